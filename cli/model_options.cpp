@@ -1,0 +1,97 @@
+#include "model_options.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "libbrdf/error.h"
+#include "libbrdf/materials.h"
+
+namespace brdf_cli {
+
+using libbrdf::InvalidArgument;
+
+void add_model_options(CLI::App& command, ModelOptions& o, bool require_model) {
+  auto* model = command.add_option("--model", o.model, "Model name (see `brdf eval --help`)");
+  if (require_model) model->required();
+  command.add_option("--sigma-s", o.sigma_s_um, "RMS surface height sigma_s [um], >= 0");
+  command.add_option("--lc", o.lc_um, "Surface correlation length l_c [um], > 0");
+  command.add_option("--wavelength", o.wavelengths_um, "Wavelength(s) [um], one per channel")->delimiter(',');
+  command.add_option("--n", o.n, "Real part n of the complex index n + i k");
+  command.add_option("--k", o.kappa, "Imaginary part kappa >= 0 of the complex index (default 0)");
+  command.add_option("--material", o.material, "Built-in material (n, k tabulated per wavelength): Au, Ag, Al, Cu, Cr, Ni, Ti, Si, BK7");
+  command.add_option("--sigma-g", o.sigma_g, "Microfacet slope parameter sigma_g (eq. 7); default: mapped from sigma_s, l_c");
+  command.add_option("--rho-s", o.rho_s, "Microfacet amplitude rho_s (eq. 2); default: K(theta_i)");
+  command.add_option("--rho-d", o.rho_d, "Lambertian albedo rho_d (eq. 2), default 0");
+  command.add_option("--g-term", o.g_term, "Shadowing/masking G: none|smith|vgroove (default smith)");
+  command.add_option("--k-mode", o.k_mode, "Renormalization K: plane (eq. 13, default) | tis");
+  command.add_option("--sigma-g-mapping", o.sigma_g_mapping, "sigma_g from sigma_s, l_c: auto|rough (eq. 20)|polished (eq. 25)");
+  command.add_option("--tolerance", o.tolerance, "Relative error allowed for a closed form inside mbk (0 = always the series; default 1e-6)");
+}
+
+libbrdf::ModelKind parse_model_kind(const ModelOptions& o) { return libbrdf::model_from_name(o.model); }
+
+namespace {
+template <class Enum>
+Enum parse_choice(const std::string& text, const char* parameter,
+                  std::initializer_list<std::pair<const char*, Enum>> choices) {
+  std::ostringstream names;
+  for (const auto& [name, value] : choices) {
+    if (text == name) return value;
+    names << (names.tellp() > 0 ? "|" : "") << name;
+  }
+  throw InvalidArgument(parameter, "must be one of " + names.str() + " (got '" + text + "')");
+}
+}  // namespace
+
+libbrdf::ModelParameters model_parameters(const ModelOptions& o, double wavelength_um) {
+  libbrdf::ModelParameters p;
+  p.sigma_s_um = o.sigma_s_um;
+  p.lc_um = o.lc_um;
+  p.wavelength_um = wavelength_um;
+  if (!o.material.empty() && o.n) throw InvalidArgument("material", "give either --material or --n/--k, not both");
+  if (!o.material.empty()) {
+    p.index = libbrdf::material_index(o.material, wavelength_um);
+  } else if (o.n) {
+    p.index = libbrdf::ComplexIndex{*o.n, o.kappa.value_or(0.0)};
+  } else if (o.kappa) {
+    throw InvalidArgument("n", "required with --k");
+  }
+  p.sigma_g = o.sigma_g;
+  p.rho_s = o.rho_s;
+  p.rho_d = o.rho_d;
+  p.g_term = parse_choice<libbrdf::GeometricTerm>(o.g_term, "g-term",
+      {{"none", libbrdf::GeometricTerm::none}, {"smith", libbrdf::GeometricTerm::smith}, {"vgroove", libbrdf::GeometricTerm::vgroove}});
+  p.k_mode = parse_choice<libbrdf::KMode>(o.k_mode, "k-mode", {{"plane", libbrdf::KMode::plane}, {"tis", libbrdf::KMode::tis}});
+  p.sigma_g_mapping = parse_choice<libbrdf::SigmaGMapping>(o.sigma_g_mapping, "sigma-g-mapping",
+      {{"auto", libbrdf::SigmaGMapping::automatic}, {"rough", libbrdf::SigmaGMapping::rough}, {"polished", libbrdf::SigmaGMapping::polished}});
+  p.tolerance = o.tolerance;
+  return p;
+}
+
+std::vector<double> channel_wavelengths(const ModelOptions& o, std::vector<double> default_wavelengths) {
+  std::vector<double> out = o.wavelengths_um.empty() ? std::move(default_wavelengths) : o.wavelengths_um;
+  for (double w : out) libbrdf::require_positive("wavelength", w, "um");
+  return out;
+}
+
+std::vector<double> parse_number_list(const std::string& text, std::size_t count, const char* parameter) {
+  std::vector<double> values;
+  std::stringstream stream(text);
+  std::string item;
+  while (std::getline(stream, item, ',')) {
+    try {
+      std::size_t used = 0;
+      const double v = std::stod(item, &used);
+      if (item.find_first_not_of(" \t\r", used) != std::string::npos) throw std::invalid_argument(item);
+      if (!std::isfinite(v)) throw std::invalid_argument(item);
+      values.push_back(v);
+    } catch (const std::exception&) {
+      throw InvalidArgument(parameter, "expected " + std::to_string(count) + " comma-separated finite numbers (got '" + text + "')");
+    }
+  }
+  if (values.size() != count)
+    throw InvalidArgument(parameter, "expected " + std::to_string(count) + " comma-separated finite numbers (got '" + text + "')");
+  return values;
+}
+
+}  // namespace brdf_cli

@@ -1,0 +1,27 @@
+#pragma once
+// Query input of `brdf eval`: --at TI,TS,PHIS options and CSV lines "theta_i,theta_s,phi_s"
+// (degrees) from a file or stdin; output CSV "theta_i,theta_s,phi_s,value" at 17 significant digits.
+#include <functional>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "libbrdf/geometry.h"
+
+namespace brdf_cli {
+
+struct Query {
+  double theta_i_deg, theta_s_deg, phi_s_deg;
+  std::string origin;  // "--at #2" or "line 5", for error messages
+};
+
+// Reads queries from --at values and from the CSV source ("" none, "-" stdin, else a file path).
+// A first line that is not numeric is taken as a header. Throws InvalidArgument naming the
+// parameter and the line number on malformed input.
+std::vector<Query> read_queries(const std::vector<std::string>& at_values, const std::string& queries_source);
+
+// Evaluates each query (angles validated per query, errors name the query) and writes the CSV.
+void write_evaluations(std::ostream& out, const std::vector<Query>& queries,
+                       const std::function<double(const libbrdf::ScatterAngles&)>& evaluate);
+
+}  // namespace brdf_cli

@@ -1,0 +1,56 @@
+#pragma once
+// Scattering geometry of Butler, Nauyoks & Marciniak, Opt. Express 23, 29100 (2015).
+//
+// Conventions (shared/docs/conventions.md, "Angles and units"):
+//   theta from the surface normal z; both directions point away from the surface;
+//   phi_i = 0; in-plane forward (specular) scatter is phi_s = pi, back-scatter phi_s = 0.
+//   Code works in radians; user-facing interfaces speak degrees.
+//
+// | symbol      | meaning                                      | eq. | unit |
+// |-------------|----------------------------------------------|-----|------|
+// | theta_i/s   | incident / scattered polar angle             | 1   | rad  |
+// | phi_s       | scattered azimuth (phi_i = 0)                | 9   | rad  |
+// | theta_d     | difference angle (incidence on the facet)    | 5   | rad  |
+// | theta_h     | half angle (bisector from the normal)        | 6   | rad  |
+// | eta_r^2     | squared direction-cosine distance to specular| 10  | 1    |
+// | g           | roughness (Rayleigh) parameter               | 12  | 1    |
+
+namespace libbrdf {
+
+inline constexpr double kPi = 3.14159265358979323846;
+
+double degrees_to_radians(double degrees);
+double radians_to_degrees(double radians);
+
+// One query: incident and scattered directions. Angles in radians.
+struct ScatterAngles {
+  double theta_i = 0.0;
+  double theta_s = 0.0;
+  double phi_s = kPi;
+};
+
+// Converts degrees (the CLI / file convention) to ScatterAngles in radians.
+ScatterAngles scatter_angles_from_degrees(double theta_i_deg, double theta_s_deg, double phi_s_deg);
+
+// Everything the models need about one (theta_i, theta_s, phi_s), computed once.
+struct ScatterGeometry {
+  double cos_theta_i, sin_theta_i;
+  double cos_theta_s, sin_theta_s;
+  double cos_phi_s, sin_phi_s;
+  double cos_2theta_d;  // eq. 5
+  double cos_theta_d;   // sqrt((1 + cos 2theta_d)/2), >= 0
+  double cos_theta_h;   // eq. 6: (cos ti + cos ts) / (2 cos theta_d)
+  double eta_r2;        // eq. 10: sin^2 ti + sin^2 ts + 2 sin ti sin ts cos phi_s
+};
+
+// Validates (theta in [0, pi/2), all finite) and derives the quantities above.
+// Throws InvalidArgument naming theta_i, theta_s or phi_s.
+ScatterGeometry make_scatter_geometry(const ScatterAngles& angles);
+
+// tan^2 theta_h from eq. 17; equals eta_r^2 / (cos ti + cos ts)^2 (eq. 19).
+double tan2_theta_h(const ScatterGeometry& geo);
+
+// eq. 12: g = (2 pi sigma_s / lambda)^2 (cos ti + cos ts)^2, with sigma_s/lambda dimensionless.
+double roughness_g(double sigma_s_over_lambda, double cos_theta_i, double cos_theta_s);
+
+}  // namespace libbrdf

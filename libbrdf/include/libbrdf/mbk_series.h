@@ -1,0 +1,81 @@
+#pragma once
+// The Modified Beckmann-Kirchhoff angle spread function (ASF), eq. 11 of Butler, Nauyoks &
+// Marciniak (2015), after Krywonos, Harvey & Choi, JOSA A 28, 1121 (2011), and its closed-form
+// limits: polished (eq. 14, m = 1 term) and very rough (eq. 15).
+//
+//   A(ti, ts, phi_s) = (pi l_c^2 / lambda^2) * Sigma(g, c)                     [1/sr-equivalent:
+//   Sigma(g, c)      = e^-g sum_{m>=1} g^m / (m! m) * exp(-c / m)               density in the
+//   c                = v_xy^2 l_c^2 / 4 = pi^2 (l_c/lambda)^2 eta_r^2            direction-cosine
+//                                                                               plane, d alpha d beta]
+// K = 1 here (conventions.md); the renormalization lives in renormalization.h.
+//
+// The terms are a Poisson weight in m times a Gaussian in eta_r (conventions.md): they are summed
+// in log space, outward from the largest term, until the remaining tail is below a relative
+// tolerance; never a fixed count, never g^m or m! directly.
+#include "libbrdf/geometry.h"
+#include "libbrdf/surface.h"
+
+namespace libbrdf {
+
+// How the series is summed.
+enum class SeriesMethod {
+  every_term,  // every integer m in the window: the reference.
+  strided,     // for wide windows (g >~ 60) every d-th term times d: by the Poisson summation
+               // formula this equals the full sum up to ~exp(-2 pi^2 (s/d)^2) relative, s the
+               // window's standard deviation; d <= s/2 keeps that below 1e-30. Falls back to
+               // every_term where the window touches m = 1.
+};
+
+struct SeriesOptions {
+  double relative_tolerance = 1e-14;  // truncation: dropped tail < tol * sum
+  SeriesMethod method = SeriesMethod::strided;
+};
+
+// Diagnostics of one summation (for tests and benchmarks).
+struct SeriesStats {
+  int terms_evaluated = 0;
+  int stride = 1;
+  int mode_m = 0;  // index of the largest term
+};
+
+// Sigma(g, c) above (dimensionless). g >= 0, c >= 0. Returns 0 when every term underflows
+// (log of the largest term < -745), never NaN/Inf.
+double mbk_series_sum(double g, double c, const SeriesOptions& options = {},
+                      SeriesStats* stats = nullptr);
+
+// Polished limit (eq. 14 without Q): the m = 1 term with e^-g = 1: g e^-c.
+double mbk_series_polished(double g, double c);
+// Very-rough limit (eq. 15 without Q and K): (1/g) exp(-c/g). Infinite at g = 0: callers must
+// only use it for g > 0.
+double mbk_series_rough(double g, double c);
+
+// Leading-order relative error estimates of the closed forms against the series, used by the
+// automatic regime choice (the measured errors are reported by tests and `brdf bench`):
+//  polished: |e^-g (1 + (g/4) e^{c/2} + ...) - 1|  ~  g + (g/4) e^{c/2}
+//  rough:    Poisson delta method, u = c/g:  |u^2 - 4u + 2| / (2g)  + O(u^4 / g^2)
+double polished_error_estimate(double g, double c);
+double rough_error_estimate(double g, double c);
+
+// Which form evaluated the ASF (reported by the regime choice).
+enum class AsfRegime { series, polished, rough };
+
+// Inputs of the ASF at one geometry: computed once, reused by several models.
+struct AsfArguments {
+  double g;          // eq. 12
+  double c;          // pi^2 (l_c/lambda)^2 eta_r^2
+  double prefactor;  // pi (l_c/lambda)^2
+};
+AsfArguments asf_arguments(const Surface& surface, const ScatterGeometry& geo);
+
+// eq. 11 with K = 1, by the series.
+double asf(const Surface& surface, const ScatterGeometry& geo, const SeriesOptions& options = {});
+
+// eq. 11 with K = 1, choosing a closed form where its estimated relative error is below
+// `tolerance` (tolerance 0 = always the series). Reports the regime used.
+double asf_auto(const AsfArguments& args, double tolerance, AsfRegime* regime = nullptr,
+                const SeriesOptions& options = {});
+
+// Specular spike reflectance (the m = 0 term, a delta): R_spec(ti) = F(ti) exp(-g(ti, ti)).
+// Declared in models.h with the other Fresnel-weighted quantities.
+
+}  // namespace libbrdf

@@ -1,0 +1,97 @@
+#pragma once
+// Every model of the paper behind one interface: a named quantity evaluated at
+// (theta_i, theta_s, phi_s). Conventions: shared/docs/conventions.md (all BRDFs use Qbar).
+//
+// BRDFs (1/sr):
+//   mbk           K(ti) Qbar A                        eq. 11 x Q, K of eq. 13
+//   mbk-polished  Qbar A_polished (K = 1, e^-g = 1)   eq. 14
+//   mbk-rough     K Qbar A_rough                      eq. 15
+//   mbk-fg        K F(td) G / S * A                   eq. 31's form
+//   bk            F(td) F_bk^2 A                      eq. 26 (original BK; not reciprocal)
+//   bk-modified   F(td) (1/S) A                       eq. 28 (the paper's proposal)
+//   microfacet    rho_s F(td) D_g G / (4 ci cs) + rho_d/pi   eqs 2, 3, 7
+// Other quantities: fresnel F(td), q (Qbar), q-ss/q-sp/q-ps/q-pp, s (eq. 22), rd (eq. 23),
+// g (eq. 12), eta-r2 (eq. 10), asf (eq. 11, K = 1), k (eq. 13, computed directly), r-spec.
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "libbrdf/fresnel.h"
+#include "libbrdf/geometry.h"
+#include "libbrdf/mbk_series.h"
+#include "libbrdf/microfacet.h"
+#include "libbrdf/renormalization.h"
+#include "libbrdf/surface.h"
+
+namespace libbrdf {
+
+enum class ModelKind {
+  fresnel, q, q_ss, q_sp, q_ps, q_pp, s, rd, g, eta_r2, asf, k, r_spec,
+  mbk, mbk_polished, mbk_rough, mbk_fg, bk, bk_modified, microfacet
+};
+
+// Command-line names ("mbk-polished", ...). Throws InvalidArgument("model", list) when unknown.
+ModelKind model_from_name(std::string_view name);
+std::string_view model_name(ModelKind kind);
+std::vector<ModelKind> all_models();
+// True for the BRDFs (values in 1/sr), the models a bake accepts.
+bool is_brdf(ModelKind kind);
+
+// Which of eqs 20 / 25 maps sigma_s, l_c to the microfacet sigma_g.
+enum class SigmaGMapping {
+  automatic,  // polished (eq. 25) when g(0,0) = (4 pi sigma_s/lambda)^2 < 1, else rough (eq. 20)
+  rough,      // eq. 20
+  polished    // eq. 25
+};
+
+// Everything a model may need at one wavelength. Unset optionals are "not given": a model that
+// needs them throws InvalidArgument naming the command-line parameter.
+struct ModelParameters {
+  std::optional<double> sigma_s_um;
+  std::optional<double> lc_um;
+  double wavelength_um = 0.55;
+  std::optional<ComplexIndex> index;  // n + i kappa
+  std::optional<double> sigma_g;      // microfacet slope parameter; else mapped from the surface
+  std::optional<double> rho_s;        // microfacet amplitude; else K(ti) (conventions.md)
+  double rho_d = 0.0;                 // Lambertian part of eq. 2
+  GeometricTerm g_term = GeometricTerm::smith;
+  SigmaGMapping sigma_g_mapping = SigmaGMapping::automatic;
+  KMode k_mode = KMode::plane;
+  double tolerance = 1e-6;            // regime choice for mbk: relative error allowed for a closed form
+  SeriesOptions series;               // how the ASF series is summed
+};
+
+// A validated, ready-to-evaluate model. Construction checks the parameters and builds what is
+// reused across queries (K table, permittivity); evaluation is thread-safe.
+class Model {
+ public:
+  Model(ModelKind kind, const ModelParameters& parameters);
+
+  // Value at one query (radians). Throws InvalidArgument for angles outside [0, pi/2) or NaN.
+  double evaluate(const ScatterAngles& angles) const;
+  // Same with derived geometry already computed (no validation; for bakes and inner loops).
+  double evaluate(const ScatterGeometry& geo) const;
+
+  // Specular spike reflectance R_spec(ti) = F(ti) exp(-g(ti, ti)) (a delta lobe, not a BRDF
+  // value), for the models that have one (the MBK and BK families); 0 otherwise.
+  double specular_reflectance(double theta_i_rad) const;
+  // K(ti) as used by this model (table), 1 where the model has no K.
+  double renormalization(double theta_i_rad) const;
+
+  ModelKind kind() const { return kind_; }
+  const ModelParameters& parameters() const { return params_; }
+  // Counts of the ASF regimes chosen so far (mbk only; for reports).
+  Surface surface() const { return surface_; }
+
+ private:
+  ModelKind kind_;
+  ModelParameters params_;
+  Surface surface_{};
+  Complex permittivity_{1.0, 0.0};
+  double sigma_g_ = 0.0;
+  std::shared_ptr<const RenormalizationTable> k_table_;
+};
+
+}  // namespace libbrdf

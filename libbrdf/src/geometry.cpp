@@ -1,0 +1,51 @@
+#include "libbrdf/geometry.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "libbrdf/error.h"
+
+namespace libbrdf {
+
+double degrees_to_radians(double degrees) { return degrees * (kPi / 180.0); }
+double radians_to_degrees(double radians) { return radians * (180.0 / kPi); }
+
+ScatterAngles scatter_angles_from_degrees(double theta_i_deg, double theta_s_deg, double phi_s_deg) {
+  return {degrees_to_radians(theta_i_deg), degrees_to_radians(theta_s_deg), degrees_to_radians(phi_s_deg)};
+}
+
+ScatterGeometry make_scatter_geometry(const ScatterAngles& angles) {
+  require_polar_angle("theta_i", angles.theta_i);
+  require_polar_angle("theta_s", angles.theta_s);
+  require_finite("phi_s", angles.phi_s);
+  ScatterGeometry geo{};
+  geo.cos_theta_i = std::cos(angles.theta_i);
+  geo.sin_theta_i = std::sin(angles.theta_i);
+  geo.cos_theta_s = std::cos(angles.theta_s);
+  geo.sin_theta_s = std::sin(angles.theta_s);
+  geo.cos_phi_s = std::cos(angles.phi_s);
+  geo.sin_phi_s = std::sin(angles.phi_s);
+  const double sin_product = geo.sin_theta_i * geo.sin_theta_s;
+  // eq. 5. Clamped to [-1, 1] only against rounding: |cos 2td| <= 1 holds exactly for real angles.
+  geo.cos_2theta_d = std::clamp(geo.cos_theta_i * geo.cos_theta_s + sin_product * geo.cos_phi_s, -1.0, 1.0);
+  geo.cos_theta_d = std::sqrt(0.5 * (1.0 + geo.cos_2theta_d));
+  // eq. 6. cos td > 0 because both directions lie strictly above the horizon (ci + cs > 0).
+  geo.cos_theta_h = std::min(1.0, (geo.cos_theta_i + geo.cos_theta_s) / (2.0 * geo.cos_theta_d));
+  // eq. 10, written as |Delta alpha|^2 + |Delta beta|^2 (eq. 9) to keep it >= 0 under rounding.
+  const double d_alpha = geo.sin_theta_s * geo.sin_phi_s;
+  const double d_beta = geo.sin_theta_s * geo.cos_phi_s + geo.sin_theta_i;
+  geo.eta_r2 = d_alpha * d_alpha + d_beta * d_beta;
+  return geo;
+}
+
+double tan2_theta_h(const ScatterGeometry& geo) {
+  const double sum = geo.cos_theta_i + geo.cos_theta_s;
+  return geo.eta_r2 / (sum * sum);  // eq. 19
+}
+
+double roughness_g(double sigma_s_over_lambda, double cos_theta_i, double cos_theta_s) {
+  const double k = 2.0 * kPi * sigma_s_over_lambda * (cos_theta_i + cos_theta_s);
+  return k * k;  // eq. 12
+}
+
+}  // namespace libbrdf

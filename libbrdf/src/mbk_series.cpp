@@ -1,0 +1,178 @@
+#include "libbrdf/mbk_series.h"
+
+#include "poisson.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace libbrdf {
+namespace {
+
+constexpr double kLn2Pi = 1.8378770664093454836;
+// exp(x) underflows to 0 below this (smallest subnormal ~ e^-745).
+constexpr double kLogUnderflow = -745.0;
+
+// Stirling-series error delta(m) = ln m! - (m ln m - m + ln(2 pi m)/2), m >= 1.
+// Exact (from lgamma) below 16, where the asymptotic series is not yet at double precision.
+double stirling_error(int m) {
+  static const std::array<double, 16> table = [] {
+    std::array<double, 16> t{};
+    for (int k = 1; k < 16; ++k) {
+      long double mk = k;
+      t[k] = static_cast<double>(std::lgamma(mk + 1.0L) - (mk * std::log(mk) - mk + 0.5L * std::log(2.0L * 3.141592653589793238462643383279502884L * mk)));
+    }
+    return t;
+  }();
+  if (m < 16) return table[m];
+  const double inv = 1.0 / m, inv2 = inv * inv;
+  return inv * (1.0 / 12 - inv2 * (1.0 / 360 - inv2 * (1.0 / 1260 - inv2 / 1680)));
+}
+
+// g * bd(m/g) with bd(x) = x ln x - x + 1 >= 0, accurate where m ~ g (no cancellation).
+double poisson_deviance_half(int m, double g) {
+  const double x = m / g;
+  if (std::abs(x - 1.0) < 0.5) {
+    const double y = (m - g) / g;
+    return g * ((1.0 + y) * std::log1p(y) - y);
+  }
+  return m * std::log(x) - m + g;
+}
+
+}  // namespace
+
+// ln of the Poisson weight e^-g g^m / m! in the saddle-point form of C. Loader, "Fast and
+// accurate computation of binomial probabilities" (2000): full relative precision even for
+// g ~ 1e6, where m ln g - ln m! - g loses ~10 digits to cancellation.
+double detail::log_poisson_weight(int m, double g) {
+  return -poisson_deviance_half(m, g) - 0.5 * (kLn2Pi + std::log(static_cast<double>(m))) - stirling_error(m);
+}
+
+namespace {
+
+// ln of term m of Sigma(g, c): Poisson weight x (1/m) x Gaussian exp(-c/m).
+double log_term(int m, double g, double c) {
+  const double dm = m;
+  return detail::log_poisson_weight(m, g) - std::log(dm) - c / dm;
+}
+
+// ln(t_{m+1} / t_m) = ln g + ln m - 2 ln(m+1) + c / (m (m+1)); strictly decreasing in m, so the
+// terms are log-concave in m and have one largest term.
+double log_ratio(int m, double ln_g, double c) {
+  const double dm = m;
+  return ln_g + std::log(dm) - 2.0 * std::log(dm + 1.0) + c / (dm * (dm + 1.0));
+}
+
+// Index of the largest term: the smallest m >= 1 with log_ratio(m) < 0 (bisection on a
+// monotone function). Upper bound: at m = 2 max(g, sqrt c) + 2 the ratio is below -0.4.
+int largest_term_index(double g, double c) {
+  const double ln_g = std::log(g);
+  if (log_ratio(1, ln_g, c) < 0.0) return 1;
+  const double bound = 2.0 * std::max(g, std::sqrt(c)) + 2.0;
+  int lo = 1;  // log_ratio(lo) >= 0
+  int hi = static_cast<int>(std::min(bound, 1.0e9));
+  while (hi - lo > 1) {
+    const int mid = lo + (hi - lo) / 2;
+    (log_ratio(mid, ln_g, c) >= 0.0 ? lo : hi) = mid;
+  }
+  return hi;
+}
+
+}  // namespace
+
+double mbk_series_sum(double g, double c, const SeriesOptions& options, SeriesStats* stats) {
+  if (!(g > 0.0)) return 0.0;  // sigma_s = 0: no scatter (conventions.md, "Domain")
+  const int mode = largest_term_index(g, c);
+  const double log_peak = log_term(mode, g, c);
+  if (stats) *stats = SeriesStats{1, 1, mode};
+  // Everything below the peak's underflow margin is 0 in double precision anyway.
+  if (log_peak < kLogUnderflow - 40.0) return 0.0;
+
+  // Standard deviation of the log-concave window from the curvature at the largest term.
+  int stride = 1;
+  if (options.method == SeriesMethod::strided && mode > 64) {
+    const double ln_g = std::log(g);
+    const double curvature = log_ratio(mode - 1, ln_g, c) - log_ratio(mode, ln_g, c);
+    const double width = 1.0 / std::sqrt(std::max(curvature, 1e-300));
+    // Poisson summation: stride <= width/2 keeps the aliasing error ~exp(-8 pi^2) ~ 1e-34;
+    // the window must stay 12 widths clear of m = 1, where the sum is cut off.
+    if (mode - 12.0 * width > 1.0) stride = std::max(1, static_cast<int>(width / 2.0));
+  }
+
+  const double tol = options.relative_tolerance;
+  double sum = 1.0;  // terms relative to the largest one
+  int evaluated = 1;
+  // Walk outward in one direction until the geometric bound on the rest of the tail (the ratio of
+  // consecutive terms only decreases away from the mode) is below tol * sum.
+  auto walk = [&](int step) {
+    double previous = 1.0;
+    for (int m = mode + step; m >= 1; m += step) {
+      const double term = std::exp(log_term(m, g, c) - log_peak);
+      ++evaluated;
+      sum += term;
+      const double ratio = term / previous;
+      if (ratio < 1.0 && term * ratio / (1.0 - ratio) <= tol * sum) break;
+      if (term == 0.0) break;
+      previous = term;
+    }
+  };
+  walk(stride);
+  walk(-stride);
+  if (stats) *stats = SeriesStats{evaluated, stride, mode};
+  const double log_value = log_peak + std::log(sum * stride);
+  return log_value < kLogUnderflow ? 0.0 : std::exp(log_value);
+}
+
+double mbk_series_polished(double g, double c) { return g * std::exp(-c); }
+
+double mbk_series_rough(double g, double c) { return g > 0.0 ? std::exp(-c / g) / g : 0.0; }
+
+double polished_error_estimate(double g, double c) {
+  // Relative size of the m = 2 and m = 3 terms against m = 1, plus the dropped e^-g.
+  const double second = 0.25 * g * std::exp(0.5 * c);
+  const double third = (g * g / 18.0) * std::exp(2.0 * c / 3.0);
+  return g + second + third;
+}
+
+double rough_error_estimate(double g, double c) {
+  if (!(g > 0.0)) return std::numeric_limits<double>::infinity();
+  const double u = c / g;
+  // Delta method on E[exp(-c/m)/m], m ~ Poisson(g): first-order term, then a bound on the next
+  // order (fourth central moment 3g^2 + g), then the e^-g of the m = 0 term the form ignores.
+  const double first = std::abs(u * u - 4.0 * u + 2.0) / (2.0 * g);
+  const double next = std::pow(1.0 + u, 4) / (g * g);
+  return first + next + std::exp(-g) * (1.0 + g);
+}
+
+AsfArguments asf_arguments(const Surface& surface, const ScatterGeometry& geo) {
+  const double lc_over_lambda = surface.lc_over_lambda();
+  AsfArguments args{};
+  args.g = roughness_g(surface.sigma_over_lambda(), geo.cos_theta_i, geo.cos_theta_s);
+  args.prefactor = kPi * lc_over_lambda * lc_over_lambda;  // pi l_c^2 / lambda^2, eq. 11
+  args.c = kPi * args.prefactor * geo.eta_r2;               // v_xy^2 l_c^2 / 4 = pi^2 (l_c/lambda)^2 eta_r^2
+  return args;
+}
+
+double asf(const Surface& surface, const ScatterGeometry& geo, const SeriesOptions& options) {
+  const AsfArguments args = asf_arguments(surface, geo);
+  return args.prefactor * mbk_series_sum(args.g, args.c, options);
+}
+
+double asf_auto(const AsfArguments& args, double tolerance, AsfRegime* regime, const SeriesOptions& options) {
+  AsfRegime chosen = AsfRegime::series;
+  double sum;
+  if (tolerance > 0.0 && args.g > 0.0 && args.g < 0.5 && polished_error_estimate(args.g, args.c) < tolerance) {
+    chosen = AsfRegime::polished;
+    sum = mbk_series_polished(args.g, args.c);
+  } else if (tolerance > 0.0 && args.g > 50.0 && rough_error_estimate(args.g, args.c) < tolerance) {
+    chosen = AsfRegime::rough;
+    sum = mbk_series_rough(args.g, args.c);
+  } else {
+    sum = mbk_series_sum(args.g, args.c, options);
+  }
+  if (regime) *regime = chosen;
+  return args.prefactor * sum;
+}
+
+}  // namespace libbrdf

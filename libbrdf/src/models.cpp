@@ -1,0 +1,203 @@
+#include "libbrdf/models.h"
+
+#include <array>
+#include <cmath>
+#include <sstream>
+
+#include "libbrdf/beckmann_kirchhoff.h"
+#include "libbrdf/error.h"
+
+namespace libbrdf {
+namespace {
+
+struct ModelName {
+  ModelKind kind;
+  std::string_view name;
+};
+constexpr std::array<ModelName, 20> kModelNames{{
+    {ModelKind::fresnel, "fresnel"}, {ModelKind::q, "q"}, {ModelKind::q_ss, "q-ss"}, {ModelKind::q_sp, "q-sp"},
+    {ModelKind::q_ps, "q-ps"}, {ModelKind::q_pp, "q-pp"}, {ModelKind::s, "s"}, {ModelKind::rd, "rd"},
+    {ModelKind::g, "g"}, {ModelKind::eta_r2, "eta-r2"}, {ModelKind::asf, "asf"}, {ModelKind::k, "k"},
+    {ModelKind::r_spec, "r-spec"}, {ModelKind::mbk, "mbk"}, {ModelKind::mbk_polished, "mbk-polished"},
+    {ModelKind::mbk_rough, "mbk-rough"}, {ModelKind::mbk_fg, "mbk-fg"}, {ModelKind::bk, "bk"},
+    {ModelKind::bk_modified, "bk-modified"}, {ModelKind::microfacet, "microfacet"},
+}};
+
+// What a model reads from ModelParameters.
+struct Needs {
+  bool sigma_s = false, lc = false, index = false, k_table = false;
+};
+
+Needs needs_of(ModelKind kind, const ModelParameters& p) {
+  Needs needs;
+  switch (kind) {
+    case ModelKind::fresnel: case ModelKind::q: case ModelKind::q_ss: case ModelKind::q_sp:
+    case ModelKind::q_ps: case ModelKind::q_pp: case ModelKind::rd:
+      needs.index = true;
+      break;
+    case ModelKind::s: case ModelKind::eta_r2:
+      break;
+    case ModelKind::g:
+      needs.sigma_s = true;
+      break;
+    case ModelKind::asf: case ModelKind::k:
+      needs.sigma_s = needs.lc = true;
+      break;
+    case ModelKind::r_spec:
+      needs.sigma_s = needs.index = true;
+      break;
+    case ModelKind::mbk_polished: case ModelKind::bk: case ModelKind::bk_modified:
+      needs.sigma_s = needs.lc = needs.index = true;
+      break;
+    case ModelKind::mbk: case ModelKind::mbk_rough: case ModelKind::mbk_fg:
+      needs.sigma_s = needs.lc = needs.index = needs.k_table = true;
+      break;
+    case ModelKind::microfacet:
+      needs.index = true;
+      // Without an explicit sigma_g and rho_s the surface statistics map onto them (eqs 20, 25).
+      needs.sigma_s = needs.lc = !p.sigma_g.has_value() || !p.rho_s.has_value();
+      needs.k_table = !p.rho_s.has_value();
+      break;
+  }
+  return needs;
+}
+
+[[noreturn]] void missing(const char* parameter, ModelKind kind, const char* hint = "") {
+  throw InvalidArgument(parameter, std::string("required by model ") + std::string(model_name(kind)) + hint);
+}
+
+}  // namespace
+
+ModelKind model_from_name(std::string_view name) {
+  for (const ModelName& entry : kModelNames)
+    if (entry.name == name) return entry.kind;
+  std::ostringstream known;
+  for (const ModelName& entry : kModelNames) known << (entry.kind == ModelKind::fresnel ? "" : ", ") << entry.name;
+  throw InvalidArgument("model", "unknown model '" + std::string(name) + "' (one of: " + known.str() + ")");
+}
+
+std::string_view model_name(ModelKind kind) {
+  for (const ModelName& entry : kModelNames)
+    if (entry.kind == kind) return entry.name;
+  return "?";
+}
+
+std::vector<ModelKind> all_models() {
+  std::vector<ModelKind> out;
+  for (const ModelName& entry : kModelNames) out.push_back(entry.kind);
+  return out;
+}
+
+bool is_brdf(ModelKind kind) {
+  switch (kind) {
+    case ModelKind::mbk: case ModelKind::mbk_polished: case ModelKind::mbk_rough: case ModelKind::mbk_fg:
+    case ModelKind::bk: case ModelKind::bk_modified: case ModelKind::microfacet:
+      return true;
+    default:
+      return false;
+  }
+}
+
+Model::Model(ModelKind kind, const ModelParameters& p) : kind_(kind), params_(p) {
+  const Needs needs = needs_of(kind, p);
+  require_positive("wavelength", p.wavelength_um, "um");
+  if (needs.sigma_s && !p.sigma_s_um) missing("sigma_s", kind);
+  if (needs.lc && !p.lc_um) missing("lc", kind);
+  if (needs.index && !p.index) missing("n", kind, " (or give a material)");
+  surface_ = Surface{p.sigma_s_um.value_or(0.0), p.lc_um.value_or(1.0), p.wavelength_um};
+  validate_surface(surface_);
+  if (p.index) {
+    validate_index(*p.index);
+    permittivity_ = p.index->permittivity();
+  }
+  if (!std::isfinite(p.tolerance) || p.tolerance < 0.0 || p.tolerance >= 1.0)
+    throw InvalidArgument("tolerance", "must be in [0, 1) (relative error; 0 = always the series)");
+  require_at_least("rho_d", p.rho_d, 0.0);
+  if (p.rho_s) require_at_least("rho_s", *p.rho_s, 0.0);
+  if (p.sigma_g) require_positive("sigma_g", *p.sigma_g);
+  if (!(p.series.relative_tolerance > 0.0 && p.series.relative_tolerance < 1e-3))
+    throw InvalidArgument("series tolerance", "must be in (0, 1e-3)");
+
+  const bool uses_g_term = kind == ModelKind::microfacet || kind == ModelKind::mbk_fg;
+  if (uses_g_term || kind == ModelKind::microfacet) {
+    if (p.sigma_g) {
+      sigma_g_ = *p.sigma_g;
+    } else {
+      const bool polished =
+          p.sigma_g_mapping == SigmaGMapping::polished ||
+          (p.sigma_g_mapping == SigmaGMapping::automatic && roughness_g(surface_.sigma_over_lambda(), 1.0, 1.0) < 1.0);
+      sigma_g_ = polished ? sigma_g_from_polished_surface(surface_.lc_um, surface_.wavelength_um)
+                          : sigma_g_from_rough_surface(surface_.sigma_s_um, surface_.lc_um);
+      // A perfect mirror has no slope distribution; the BRDF part is then 0 (sigma_s = 0).
+      if (!(sigma_g_ > 0.0)) sigma_g_ = 0.0;
+    }
+  }
+  if (needs.k_table) k_table_ = cached_renormalization_table(surface_, p.k_mode);
+}
+
+double Model::evaluate(const ScatterAngles& angles) const { return evaluate(make_scatter_geometry(angles)); }
+
+double Model::renormalization(double theta_i) const { return k_table_ ? (*k_table_)(theta_i) : 1.0; }
+
+double Model::specular_reflectance(double theta_i) const {
+  switch (kind_) {
+    case ModelKind::microfacet: case ModelKind::fresnel: case ModelKind::q: case ModelKind::q_ss:
+    case ModelKind::q_sp: case ModelKind::q_ps: case ModelKind::q_pp: case ModelKind::s: case ModelKind::rd:
+    case ModelKind::eta_r2:
+      return 0.0;
+    default:
+      break;
+  }
+  const double ci = std::cos(theta_i);
+  // The m = 0 term of the series: a delta of weight F(ti) exp(-g(ti, ti)) (conventions.md).
+  return fresnel_reflectance(permittivity_, ci) * std::exp(-roughness_g(surface_.sigma_over_lambda(), ci, ci));
+}
+
+double Model::evaluate(const ScatterGeometry& geo) const {
+  const double theta_i = std::atan2(geo.sin_theta_i, geo.cos_theta_i);
+  auto fresnel_d = [&] { return fresnel_reflectance(permittivity_, geo.cos_theta_d); };
+  auto asf_value = [&] { return asf_auto(asf_arguments(surface_, geo), params_.tolerance, nullptr, params_.series); };
+  switch (kind_) {
+    case ModelKind::fresnel: return fresnel_d();
+    case ModelKind::q: return stover_q(permittivity_, geo).q_bar();
+    case ModelKind::q_ss: return stover_q(permittivity_, geo).ss;
+    case ModelKind::q_sp: return stover_q(permittivity_, geo).sp;
+    case ModelKind::q_ps: return stover_q(permittivity_, geo).ps;
+    case ModelKind::q_pp: return stover_q(permittivity_, geo).pp;
+    case ModelKind::s: return s_term(geo);
+    case ModelKind::rd: return relative_difference_rd(permittivity_, geo);
+    case ModelKind::g: return roughness_g(surface_.sigma_over_lambda(), geo.cos_theta_i, geo.cos_theta_s);
+    case ModelKind::eta_r2: return geo.eta_r2;
+    case ModelKind::asf: return asf(surface_, geo, params_.series);
+    case ModelKind::k: return renormalization_direct(surface_, theta_i, params_.k_mode).k;
+    case ModelKind::r_spec: return specular_reflectance(theta_i);
+    case ModelKind::mbk:  // K Qbar A, eq. 11 x Q (conventions.md: Qbar)
+      return renormalization(theta_i) * stover_q(permittivity_, geo).q_bar() * asf_value();
+    case ModelKind::mbk_polished: {  // eq. 14 with Qbar: K = 1, e^-g = 1, m = 1
+      const AsfArguments a = asf_arguments(surface_, geo);
+      return stover_q(permittivity_, geo).q_bar() * a.prefactor * mbk_series_polished(a.g, a.c);
+    }
+    case ModelKind::mbk_rough: {  // eq. 15 with Qbar and K
+      const AsfArguments a = asf_arguments(surface_, geo);
+      return renormalization(theta_i) * stover_q(permittivity_, geo).q_bar() * a.prefactor * mbk_series_rough(a.g, a.c);
+    }
+    case ModelKind::mbk_fg:  // eq. 31's form: K F(td) G / S * A
+      return renormalization(theta_i) * fresnel_d() * geometric_term(params_.g_term, geo, sigma_g_) / s_term(geo) * asf_value();
+    case ModelKind::bk:  // F(td) F_bk^2 A, eq. 26
+      return fresnel_d() * bk_geometric_factor_eq26(geo) * asf_value();
+    case ModelKind::bk_modified:  // F(td) (1/S) A, eq. 28
+      return fresnel_d() * inverse_s_term_eq28(geo) * asf_value();
+    case ModelKind::microfacet: {  // eq. 2 surface term + Lambertian
+      const double rho_s = params_.rho_s ? *params_.rho_s : renormalization(theta_i);  // rho_s = K
+      double specular = 0.0;
+      if (sigma_g_ > 0.0) {
+        specular = rho_s * fresnel_d() * gaussian_facet_distribution(geo.cos_theta_h, sigma_g_) *
+                   geometric_term(params_.g_term, geo, sigma_g_) / (4.0 * geo.cos_theta_i * geo.cos_theta_s);
+      }
+      return specular + params_.rho_d / kPi;
+    }
+  }
+  return 0.0;
+}
+
+}  // namespace libbrdf
