@@ -1,16 +1,17 @@
 #pragma once
-// Each subcommand registers itself on the root app and returns the action to run when chosen.
+// Each subcommand registers itself (and its own subcommands) on a parent app and records the
+// action to run when it is the command chosen. main.cpp lists the registrars.
 #include <CLI/CLI.hpp>
 
 #include <functional>
+#include <utility>
+#include <vector>
 
 namespace brdf_cli {
 
 using Action = std::function<int()>;
+using ActionTable = std::vector<std::pair<CLI::App*, Action>>;
 
-Action register_eval(CLI::App& app);
-Action register_bake(CLI::App& app);
-Action register_bench(CLI::App& app);
-Action register_export(CLI::App& app);
+void register_eval(CLI::App& app, ActionTable& actions);    // eval_command.cpp
 
 }  // namespace brdf_cli

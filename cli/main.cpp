@@ -2,7 +2,6 @@
 #include <CLI/CLI.hpp>
 
 #include <iostream>
-#include <map>
 
 #include "commands.h"
 #include "libbrdf/error.h"
@@ -15,12 +14,8 @@ int main(int argc, char** argv) {
   // One line per error (CLI11's default adds a help hint on a second line).
   app.failure_message([](const CLI::App*, const CLI::Error& e) { return std::string(e.what()) + "\n"; });
 
-  std::map<const CLI::App*, brdf_cli::Action> actions;
-  for (auto registrar : {&brdf_cli::register_eval}) {
-    const std::size_t before = app.get_subcommands({}).size();
-    brdf_cli::Action action = registrar(app);
-    actions[app.get_subcommands({})[before]] = std::move(action);
-  }
+  brdf_cli::ActionTable actions;
+  for (auto registrar : {&brdf_cli::register_eval}) registrar(app, actions);
 
   try {
     app.parse(argc, argv);
@@ -35,8 +30,9 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    for (const auto& [command, action] : actions)
-      if (command->parsed()) return action();
+    // The chosen command is the last parsed one (nested commands register after their parent).
+    for (auto it = actions.rbegin(); it != actions.rend(); ++it)
+      if (it->first->parsed()) return it->second();
   } catch (const libbrdf::InvalidArgument& e) {
     std::cerr << "brdf: error: " << e.what() << "\n";
     return 2;

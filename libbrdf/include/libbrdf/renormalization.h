@@ -29,7 +29,8 @@ struct RenormalizationParts {
   double k = 1.0;             // the K of the requested mode
 };
 
-// Quadrature resolution of the direct computation (defaults measured to give |dK|/K < 1e-7).
+// Quadrature resolution of the direct computation. Against 4x finer rules the defaults differ by
+// <= 2e-7 (sigma_s/lambda = 0.2, l_c/lambda = 2, any ti) and 2e-6 (l_c/lambda = 1e3 at 89.5 deg).
 struct RenormalizationQuadrature {
   int azimuth_nodes = 48;      // Gauss-Legendre nodes over the half disk's azimuth around specular
   int radial_nodes = 12;       // Gauss-Legendre nodes per radial panel
