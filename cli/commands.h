@@ -14,4 +14,7 @@ using ActionTable = std::vector<std::pair<CLI::App*, Action>>;
 
 void register_eval(CLI::App& app, ActionTable& actions);    // eval_command.cpp
 
+// The `export` parent command (created on first use); exporters add their subcommands to it.
+CLI::App& export_parent(CLI::App& app);
+
 }  // namespace brdf_cli
