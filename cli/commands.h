@@ -13,6 +13,10 @@ using Action = std::function<int()>;
 using ActionTable = std::vector<std::pair<CLI::App*, Action>>;
 
 void register_eval(CLI::App& app, ActionTable& actions);    // eval_command.cpp
+void register_bake(CLI::App& app, ActionTable& actions);    // bake_command.cpp
+void register_bench(CLI::App& app, ActionTable& actions);   // bench_command.cpp
+void register_export_blender(CLI::App& app, ActionTable& actions);  // export_blender_command.cpp (under `export`)
+void register_export_povray(CLI::App& app, ActionTable& actions);   // export_povray_command.cpp (under `export`)
 
 // The `export` parent command (created on first use); exporters add their subcommands to it.
 CLI::App& export_parent(CLI::App& app);

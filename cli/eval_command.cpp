@@ -1,10 +1,13 @@
 // `brdf eval`: a model at query angles, CSV out. The interface is a contract other tools call:
 //   brdf eval --model NAME [surface params] (--at TI,TS,PHIS ... | --queries FILE|-)
+//   brdf eval --lut FILE [--channel I] (--at ... | --queries ...)   a baked table, same CSV contract
+#include <cmath>
 #include <iostream>
 #include <memory>
 
 #include "commands.h"
 #include "libbrdf/error.h"
+#include "libbrdf/lut.h"
 #include "libbrdf/models.h"
 #include "model_options.h"
 #include "query_input.h"
@@ -16,16 +19,54 @@ struct EvalOptions {
   ModelOptions model;
   std::vector<std::string> at;
   std::string queries;
+  std::string lut;
+  int channel = 0;
 };
+
+// A baked table (OpenEXR or MERL binary) at the queries: channel `channel`, interpolated.
+int evaluate_table(const EvalOptions& o, const std::vector<Query>& queries) {
+  if (!o.model.model.empty()) throw libbrdf::InvalidArgument("lut", "give either --model or --lut, not both");
+  libbrdf::Lut lut;
+  try {
+    lut = libbrdf::read_lut_file(o.lut);
+  } catch (const libbrdf::LutFileError& e) {
+    throw libbrdf::InvalidArgument("lut", e.what());
+  }
+  if (o.channel < 0 || o.channel >= lut.channels())
+    throw libbrdf::InvalidArgument("channel", "must be in [0, " + std::to_string(lut.channels() - 1) + "] (got " +
+                                                  std::to_string(o.channel) + ")");
+  // A slice holds only the geometries with cos 2theta_d = L.V (eq. 5): other queries are errors.
+  double cos_lv = 0.0;
+  if (lut.layout == libbrdf::LutLayout::slice) {
+    const libbrdf::Direction l = lut.light, v = lut.view;
+    cos_lv = (l.x * v.x + l.y * v.y + l.z * v.z) / std::sqrt((l.x * l.x + l.y * l.y + l.z * l.z) * (v.x * v.x + v.y * v.y + v.z * v.z));
+  }
+  write_evaluations(std::cout, queries, [&](const libbrdf::ScatterAngles& a) {
+    const libbrdf::ScatterGeometry geo = libbrdf::make_scatter_geometry(a);
+    if (lut.layout == libbrdf::LutLayout::slice && std::abs(geo.cos_2theta_d - cos_lv) > 1e-6)
+      throw libbrdf::InvalidArgument("phi_s", "not a geometry of this slice table: cos 2theta_d = " + std::to_string(geo.cos_2theta_d) +
+                                                  ", the table's L.V = " + std::to_string(cos_lv) + " (eq. 5)");
+    return lut.lookup(o.channel, geo);
+  });
+  return 0;
+}
 }  // namespace
 
 void register_eval(CLI::App& app, ActionTable& actions) {
   auto options = std::make_shared<EvalOptions>();
   CLI::App* command = app.add_subcommand("eval", "Evaluate a model at query angles (degrees); CSV on stdout");
-  add_model_options(*command, options->model);
+  add_model_options(*command, options->model, /*require_model=*/false);
+  command->add_option("--lut", options->lut, "Evaluate a baked table (.exr or MERL .binary) instead of a model");
+  command->add_option("--channel", options->channel, "With --lut: channel (wavelength index) to evaluate, default 0");
   command->add_option("--at", options->at, "One query TI,TS,PHIS in degrees (repeatable)")->allow_extra_args(false);
   command->add_option("--queries", options->queries, "CSV file of theta_i,theta_s,phi_s lines, or - for stdin");
   actions.emplace_back(command, [options]() {
+    if (!options->lut.empty()) {
+      const std::vector<Query> queries = read_queries(options->at, options->queries);
+      if (queries.empty()) throw libbrdf::InvalidArgument("at", "no queries: give --at TI,TS,PHIS or --queries FILE|-");
+      return evaluate_table(*options, queries);
+    }
+    if (options->model.model.empty()) throw libbrdf::InvalidArgument("model", "required (or --lut FILE)");
     const std::vector<double> wavelengths = channel_wavelengths(options->model, {0.55});
     if (wavelengths.size() != 1)
       throw libbrdf::InvalidArgument("wavelength", "eval takes one wavelength (got " + std::to_string(wavelengths.size()) + ")");

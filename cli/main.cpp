@@ -15,7 +15,7 @@ int main(int argc, char** argv) {
   app.failure_message([](const CLI::App*, const CLI::Error& e) { return std::string(e.what()) + "\n"; });
 
   brdf_cli::ActionTable actions;
-  for (auto registrar : {&brdf_cli::register_eval}) registrar(app, actions);
+  for (auto registrar : {&brdf_cli::register_eval, &brdf_cli::register_bake, &brdf_cli::register_bench, &brdf_cli::register_export_blender, &brdf_cli::register_export_povray}) registrar(app, actions);
 
   try {
     app.parse(argc, argv);

@@ -6,7 +6,7 @@ packages=(cmake g++ make pkg-config libgtest-dev libgmock-dev libbenchmark-dev l
           libopenimageio-dev openimageio-tools libopenexr-dev libtbb-dev
           python3 python3-numpy python3-matplotlib python3-openimageio)
 if [[ "${1:-}" == "--with-renderers" ]]; then
-  packages+=(povray blender xvfb)
+  packages+=(povray blender)
 fi
 missing=()
 for p in "${packages[@]}"; do

@@ -53,7 +53,9 @@ ComplexIndex material_index(std::string_view name, double wavelength_um) {
   if (wavelength_um < first->wavelength_um || wavelength_um > (last - 1)->wavelength_um) {
     std::ostringstream msg;
     msg << "must be within the tabulated range of " << entry.name << ", [" << first->wavelength_um << ", "
-        << (last - 1)->wavelength_um << "] um (got " << wavelength_um << ")";
+        << (last - 1)->wavelength_um << "] um (got ";
+    msg.precision(17);  // full precision: 0.8920000000000001 must not print as the bound 0.892
+    msg << wavelength_um << ")";
     throw InvalidArgument("wavelength", msg.str());
   }
   const NkSample* upper = std::lower_bound(first, last, wavelength_um,

@@ -128,8 +128,9 @@ Model::Model(ModelKind kind, const ModelParameters& p) : kind_(kind), params_(p)
           (p.sigma_g_mapping == SigmaGMapping::automatic && roughness_g(surface_.sigma_over_lambda(), 1.0, 1.0) < 1.0);
       sigma_g_ = polished ? sigma_g_from_polished_surface(surface_.lc_um, surface_.wavelength_um)
                           : sigma_g_from_rough_surface(surface_.sigma_s_um, surface_.lc_um);
-      // A perfect mirror has no slope distribution; the BRDF part is then 0 (sigma_s = 0).
-      if (!(sigma_g_ > 0.0)) sigma_g_ = 0.0;
+      // A perfect mirror has no slope distribution; the BRDF part is then 0 (sigma_s = 0). The
+      // polished mapping (eq. 25) does not depend on sigma_s, so the mirror is checked directly.
+      if (surface_.sigma_s_um == 0.0 || !(sigma_g_ > 0.0)) sigma_g_ = 0.0;
     }
   }
   if (needs.k_table) k_table_ = cached_renormalization_table(surface_, p.k_mode);
@@ -153,10 +154,22 @@ double Model::specular_reflectance(double theta_i) const {
   return fresnel_reflectance(permittivity_, ci) * std::exp(-roughness_g(surface_.sigma_over_lambda(), ci, ci));
 }
 
-double Model::evaluate(const ScatterGeometry& geo) const {
+double Model::evaluate(const ScatterGeometry& geo) const { return evaluate_impl(geo, nullptr); }
+
+double Model::evaluate(const ScatterGeometry& geo, double asf) const { return evaluate_impl(geo, &asf); }
+
+bool Model::uses_asf() const {
+  return kind_ == ModelKind::mbk || kind_ == ModelKind::mbk_fg || kind_ == ModelKind::bk || kind_ == ModelKind::bk_modified;
+}
+
+double Model::asf_at(const ScatterGeometry& geo) const {
+  return asf_auto(asf_arguments(surface_, geo), params_.tolerance, nullptr, params_.series);
+}
+
+double Model::evaluate_impl(const ScatterGeometry& geo, const double* asf_given) const {
   const double theta_i = std::atan2(geo.sin_theta_i, geo.cos_theta_i);
   auto fresnel_d = [&] { return fresnel_reflectance(permittivity_, geo.cos_theta_d); };
-  auto asf_value = [&] { return asf_auto(asf_arguments(surface_, geo), params_.tolerance, nullptr, params_.series); };
+  auto asf_value = [&] { return asf_given ? *asf_given : asf_at(geo); };
   switch (kind_) {
     case ModelKind::fresnel: return fresnel_d();
     case ModelKind::q: return stover_q(permittivity_, geo).q_bar();

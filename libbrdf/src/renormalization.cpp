@@ -50,11 +50,18 @@ double disk_integral(const Surface& surface, double theta_i, const Renormalizati
       return prefactor * mbk_series_sum(g, c, series) * rho;
     };
     double total = 0.0, a = 0.0, b = std::min(first_panel, rho_max);
-    while (a < rho_max) {
+    while (b < rho_max) {
       total += detail::integrate_gauss_legendre(radial_rule, a, b, integrand);
       a = b;
       b = std::min(2.0 * b, rho_max);
     }
+    // The last panel ends on the unit circle, where cos ts ~ sqrt(rho_max - rho) has a square-root
+    // singularity that Gauss-Legendre resolves only algebraically (~1e-5 relative error in D for
+    // rough surfaces). With rho = rho_max - u^2 the integrand is smooth in u.
+    const double u_max = std::sqrt(rho_max - a);
+    total += detail::integrate_gauss_legendre(radial_rule, 0.0, u_max, [&](double u) {
+      return 2.0 * u * integrand(rho_max - u * u);
+    });
     return total;
   };
   // Symmetric in alpha: twice the half disk. The azimuth range is split at pi/2, where the
@@ -119,32 +126,105 @@ RenormalizationParts renormalization_direct(const Surface& surface, double theta
   return parts;
 }
 
-RenormalizationTable::RenormalizationTable(const Surface& surface, KMode mode, int nodes)
-    : mode_(mode), step_(0.5 * kPi / (nodes - 1)), k_(nodes), slope_(nodes) {
-  validate_surface(surface);
-  tbb::parallel_for(0, nodes, [&](int i) {
-    k_[i] = renormalization_direct(surface, std::min(0.5 * kPi, i * step_), mode).k;
-  });
-  // Fritsch-Carlson monotone cubic Hermite slopes: no overshoot near the steep grazing rise.
-  std::vector<double> secant(nodes - 1);
-  for (int i = 0; i + 1 < nodes; ++i) secant[i] = (k_[i + 1] - k_[i]) / step_;
-  slope_[0] = secant[0];
-  slope_[nodes - 1] = secant[nodes - 2];
-  for (int i = 1; i + 1 < nodes; ++i) {
-    if (secant[i - 1] * secant[i] <= 0.0) {
-      slope_[i] = 0.0;
-    } else {
-      slope_[i] = 2.0 / (1.0 / secant[i - 1] + 1.0 / secant[i]);  // harmonic mean
+namespace {
+// Node placement: uniform in y in [0, 1] with theta_i = (pi/2) sin(pi y / 2). Near grazing the
+// spacing shrinks like sqrt(90 deg - theta_i), which resolves a narrow lobe crossing the unit
+// circle (structure over ~sqrt(2 / (pi l_c/lambda)) rad below 90 deg); the map is odd in y, so the
+// tabulated functions, even in theta_i, stay even in y.
+double node_angle(double y) { return 0.5 * kPi * std::sin(0.5 * kPi * y); }
+double node_coordinate(double theta_i) { return (2.0 / kPi) * std::asin(std::clamp(theta_i / (0.5 * kPi), 0.0, 1.0)); }
+
+// Cubic Hermite slopes (per unit of node index) with fourth-order central differences, one-sided
+// at the grazing end; at y = 0 the functions are even, so the nodes are mirrored there.
+std::vector<double> hermite_slopes(const std::vector<double>& f) {
+  const int n = static_cast<int>(f.size());
+  auto at = [&](int i) { return i < 0 ? f[-i] : f[i]; };  // even extension below theta_i = 0
+  std::vector<double> slope(n);
+  for (int i = 0; i < n; ++i) {
+    if (i + 2 < n) {
+      slope[i] = (-at(i + 2) + 8.0 * at(i + 1) - 8.0 * at(i - 1) + at(i - 2)) / 12.0;
+    } else {  // one-sided fourth-order differences at the last two nodes
+      const int k = n - 1 - i;  // 0 at the last node, 1 at the one before
+      const double f0 = f[n - 1], f1 = f[n - 2], f2 = f[n - 3], f3 = f[n - 4], f4 = f[n - 5];
+      slope[i] = k == 0 ? (25.0 * f0 - 48.0 * f1 + 36.0 * f2 - 16.0 * f3 + 3.0 * f4) / 12.0
+                        : (3.0 * f0 + 10.0 * f1 - 18.0 * f2 + 6.0 * f3 - f4) / 12.0;
     }
   }
+  return slope;
+}
+
+double hermite(const std::vector<double>& f, const std::vector<double>& slope, double x) {
+  const int i = std::min(static_cast<int>(x), static_cast<int>(f.size()) - 2);
+  const double t = x - i, t2 = t * t, t3 = t2 * t;
+  const double h00 = 2 * t3 - 3 * t2 + 1, h10 = t3 - 2 * t2 + t, h01 = -2 * t3 + 3 * t2, h11 = t3 - t2;
+  return h00 * f[i] + h10 * slope[i] + h01 * f[i + 1] + h11 * slope[i + 1];
+}
+}  // namespace
+
+int RenormalizationTable::automatic_node_count(const Surface& surface) {
+  // The lobe (width 1/(pi l_c/lambda) in direction cosines) crosses the unit circle within
+  // ~sqrt(2 width) rad of 90 deg, i.e. within 1 - y ~ sqrt(16 sqrt(2 width) / pi^3) of the last
+  // node; 24 nodes per that distance keep the interpolation error ~1e-5 (l_c/lambda = 100, 1000).
+  const double width = 1.0 / (kPi * surface.lc_over_lambda());
+  const double grazing_band = std::sqrt(16.0 * std::sqrt(2.0 * width) / (kPi * kPi * kPi));
+  return static_cast<int>(std::clamp(std::ceil(24.0 / grazing_band) + 1.0, double(kDefaultNodes), 4001.0));
+}
+
+// K itself is steep near grazing (K - 1 and K_tis both vanish like cos^2 theta_i at 90 deg), so the
+// table holds the smooth factors instead and rebuilds K from them with the exact g(theta_i):
+//   ln D(ti)                             the disk integral (a smooth, positive function)
+//   r(ti) = outside / (1 - e^-g1)        the fraction of the constant-g1 lobe outside the disk
+//   plane: K = 1 + (1 - e^-g1) r / D;    tis: K = (1 - e^-g(ti,ti)) / D
+RenormalizationTable::RenormalizationTable(const Surface& surface, KMode mode, int requested_nodes)
+    : mode_(mode), surface_(surface) {
+  validate_surface(surface);
+  if (requested_nodes != 0 && requested_nodes < 8)
+    throw InvalidArgument("nodes", "K table needs at least 8 nodes (or 0 = automatic)");
+  const int nodes = requested_nodes == 0 ? automatic_node_count(surface) : requested_nodes;
+  angles_.resize(nodes);
+  k_.assign(nodes, 1.0);
+  scale_ = nodes - 1;
+  for (int i = 0; i < nodes; ++i) angles_[i] = node_angle(i / scale_);
+  angles_[nodes - 1] = 0.5 * kPi;
+  if (surface.sigma_s_um == 0.0) return;  // a mirror: K = 1 everywhere
+  std::vector<double> disk(nodes), outside(nodes);
+  tbb::parallel_for(0, nodes, [&](int i) {
+    // The grazing node is taken just inside 90 deg, where g1 > 0 keeps r = outside / (1 - e^-g1)
+    // a ratio of nonzero numbers (its limit at 90 deg).
+    const double ti = std::min(angles_[i], 0.5 * kPi - 1e-6);
+    const RenormalizationParts parts = renormalization_direct(surface, ti, KMode::plane);
+    disk[i] = parts.disk;
+    const double g1 = roughness_g(surface.sigma_over_lambda(), std::cos(ti), 0.0);
+    outside[i] = g1 > 0.0 ? parts.outside / -std::expm1(-g1) : 0.0;
+  });
+  if (!std::all_of(disk.begin(), disk.end(), [](double d) { return d > 0.0; })) {
+    // Scatter underflows somewhere (no lobe at all): fall back to K at the nodes, linearly.
+    for (int i = 0; i < nodes; ++i) k_[i] = renormalization_direct(surface, angles_[i], mode).k;
+    linear_only_ = true;
+    return;
+  }
+  log_disk_.resize(nodes);
+  for (int i = 0; i < nodes; ++i) log_disk_[i] = std::log(disk[i]);
+  outside_fraction_ = std::move(outside);
+  log_disk_slope_ = hermite_slopes(log_disk_);
+  outside_fraction_slope_ = hermite_slopes(outside_fraction_);
+  for (int i = 0; i < nodes; ++i) k_[i] = (*this)(angles_[i]);
 }
 
 double RenormalizationTable::operator()(double theta_i) const {
-  const double x = std::clamp(theta_i / step_, 0.0, static_cast<double>(k_.size() - 1));
-  const int i = std::min(static_cast<int>(x), static_cast<int>(k_.size()) - 2);
-  const double t = x - i, t2 = t * t, t3 = t2 * t;
-  const double h00 = 2 * t3 - 3 * t2 + 1, h10 = t3 - 2 * t2 + t, h01 = -2 * t3 + 3 * t2, h11 = t3 - t2;
-  return h00 * k_[i] + h10 * step_ * slope_[i] + h01 * k_[i + 1] + h11 * step_ * slope_[i + 1];
+  if (surface_.sigma_s_um == 0.0) return 1.0;
+  const double x = node_coordinate(theta_i) * scale_;
+  if (linear_only_) {
+    const int i = std::min(static_cast<int>(x), static_cast<int>(k_.size()) - 2);
+    return k_[i] + (x - i) * (k_[i + 1] - k_[i]);
+  }
+  const double disk = std::exp(hermite(log_disk_, log_disk_slope_, x));
+  const double ci = std::cos(theta_i);
+  if (mode_ == KMode::tis) return -std::expm1(-roughness_g(surface_.sigma_over_lambda(), ci, ci)) / disk;
+  // r >= 0 by definition; at the foot of its rise (narrow lobes, far from grazing, r ~ 0) the cubic
+  // can dip below 0 by its interpolation error, which must not turn into K < 1 (eq. 13: K >= 1).
+  const double outside = std::max(0.0, hermite(outside_fraction_, outside_fraction_slope_, x));
+  return 1.0 + -std::expm1(-roughness_g(surface_.sigma_over_lambda(), ci, 0.0)) * outside / disk;
 }
 
 std::shared_ptr<const RenormalizationTable> cached_renormalization_table(const Surface& surface, KMode mode) {

@@ -8,27 +8,49 @@
 //                theta_h = (pi/2) (i/(N0-1))^2   square map: nodes dense at the specular peak
 //                theta_d = (pi/2) i/(N1-1)
 //                phi_d   = pi i/(N2-1)           phi_d and -phi_d are equal for isotropic BRDFs
+//                phi_d is the azimuth of the incident direction in the half-vector frame (the
+//                frame of MERL's reference reader: rotate by -phi_h about z, then by -theta_h
+//                about y). Only the mirror symmetry phi_d -> -phi_d is used, not reciprocity
+//                (phi_d -> phi_d + pi): mbk (K(theta_i)) and bk are not reciprocal.
 //  merl          The MERL binary layout (Matusik et al., ACM TOG 22, 759, 2003): 90 x 90 x 180,
 //                theta_h = (pi/2)(i/90)^2, theta_d = (pi/2) i/90, phi_d = pi i/180 (the angles
 //                MERL's reference reader floors back to index i), channel scales 1/1500,
 //                1.15/1500, 1.66/1500, doubles. In memory it is the same node grid (no node on
-//                the upper range ends; lookups beyond the last node hold its value).
+//                the upper range ends; lookups beyond the last node hold its value). The MERL
+//                format folds phi_d by reciprocity: a MERL reader returns f(w_s, w_i) for
+//                phi_d < 0, which differs from f(w_i, w_s) for non-reciprocal models.
 //  slice         2D, for a scene lit by a sun and seen by a distant (orthographic) camera:
-//                the light and view directions are fixed in the WORLD, the normal varies.
-//                For fixed L, V the BRDF depends on the normal only through
-//                (cos ti, cos ts) = (N.L, N.V), since cos 2theta_d = L.V fixes phi_s (eq. 5).
-//                Axes u = N.L in [0, 1], v = N.V in [0, 1], uniform node grids, bilinear.
-//                Infeasible (u, v) (no unit N gives them) hold the nearest feasible value so
-//                that interpolation near the edge stays smooth; they are never looked up by a
-//                real normal.
+//                the light and view directions L, V are fixed in the WORLD, the normal N varies.
+//                For fixed L, V the BRDF depends on N only through (N.L, N.V) = (cos ti, cos ts),
+//                since cos 2theta_d = L.V fixes theta_d (eq. 5); equivalently through
+//                  cos theta_h = (N.L + N.V) / (2 cos theta_d)       (= N.H, H the half vector)
+//                  cos phi_d   = (N.V - N.L) / (2 sin theta_h sin theta_d).
+//                The table is the rusinkiewicz table at that one theta_d: shape {N0, N1, 1},
+//                theta_h = (pi/2) (i/(N0-1))^2 (square map), phi_d = pi j/(N1-1), bilinear.
+//                (A uniform grid over (N.L, N.V) itself was tried and dropped: the specular peak
+//                N = H lies on the boundary of the feasible (N.L, N.V) region, and at 512 x 512
+//                its measured max relative error was still 0.24 / 0.11 / 0.32 for polished /
+//                intermediate / rough Au (mbk, sigma_s = 0.01 / 0.1 / 0.5 um, l_c = 2 / 2 / 5 um),
+//                against 0.013 / 0.0039 / 0.0052 for 256 x 128 nodes in (theta_h, phi_d).)
+//                lookup() uses only (theta_h, phi_d) of the geometry: queries must have
+//                cos 2theta_d = L.V (brdf eval --lut checks it).
+// Nodes whose incident or scattered direction lies on or below the horizon (theta >= 90 deg, e.g.
+// theta_d = 90 deg, or theta_h + theta_d > 90 deg in the incidence plane) hold the model at those
+// directions with the polar angles limited to kHorizonThetaLimitDeg (azimuths unchanged); for the
+// models with the ASF A of eq. 11 (mbk, mbk-fg, bk, bk-modified) A is that of the node's own
+// (theta_h, theta_d) -- it does not depend on phi_d (g and c depend on cos ti + cos ts =
+// 2 cos td cos th and eta_r = 2 cos td sin th) and is real for every theta_h, theta_d < 90 deg.
+// A continuous extension (equal to the model on the horizon), reached by real queries only
+// through interpolation in the cells next to the horizon (whose error the measurement includes).
 // Always alongside, per channel: R_spec(theta_i) (the specular spike's reflectance) and K(theta_i)
-// on a uniform theta_i node grid over [0, 90] deg.
+// on a uniform theta_i node grid over [0, 90] deg (kThetaINodes nodes, linear interpolation).
 #include <array>
 #include <atomic>
 #include <cstdint>
 #include <functional>
 #include <map>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -42,24 +64,51 @@ enum class LutLayout { rusinkiewicz, merl, slice };
 std::string_view layout_name(LutLayout layout);
 LutLayout layout_from_name(std::string_view name);  // throws InvalidArgument("layout", ...)
 
+// Polar angle (deg) that stands in for directions on or below the horizon in table nodes (see above).
+inline constexpr double kHorizonThetaLimitDeg = 89.9;
+// Nodes of the 1D R_spec and K tables: theta_i = 90 deg * i / (kThetaINodes - 1), 1/16 deg apart
+// (R_spec = F exp(-g(ti, ti)) of rough surfaces rises steeply near grazing: at 1/4 deg spacing its
+// linear interpolation erred by 1% for sigma_s = 0.5 um at 0.45 um).
+inline constexpr int kThetaINodes = 1441;
+// The MERL binary grid.
+inline constexpr std::array<int, 3> kMerlShape{90, 90, 180};
+
 // A unit direction in world space (slice layout). x, y, z; normalized on use.
 struct Direction {
   double x = 0.0, y = 0.0, z = 1.0;
 };
 
+// Rusinkiewicz half/difference angles (radians) of one geometry; phi_d folded into [0, pi] by the
+// mirror symmetry of isotropic BRDFs.
+struct HalfDifferenceAngles {
+  double theta_h = 0.0, theta_d = 0.0, phi_d = 0.0;
+};
+HalfDifferenceAngles half_difference_angles(const ScatterGeometry& geo);
+// Inverse: the (theta_i, theta_s, phi_s) of a half/difference triple (phi_h = 0). Polar angles of
+// directions at or below the horizon come out >= pi/2 (callers decide what to do with them).
+ScatterAngles scatter_angles_from_half_difference(const HalfDifferenceAngles& hd);
+
+// The error a table claims is measured where both polar angles are <= this (deg). Within a few
+// degrees of the horizon every MBK/BK value falls to 0 like (cos ti + cos ts)^2 (g of eq. 12), and
+// linear interpolation of such a zero has O(1) relative error in the cells next to it at any
+// resolution: the relative error there is reported apart (LutError::max_relative_all).
+inline constexpr double kErrorThetaLimitDeg = 85.0;
+
 // Relative error statistics of a table against direct evaluation of its model.
 struct LutError {
-  double max_relative = 0.0;   // max over samples of |lut - model| / model
+  double max_relative = 0.0;   // max over samples of |lut - model| / model (polar angles <= theta_limit_deg)
   double rms_relative = 0.0;
   double floor = 0.0;          // samples whose model value is below this (1/sr) are ignored
-  int samples = 0;             // random off-grid points used
+  int samples = 0;             // values compared: random off-grid points x channels, above the floor
+  double theta_limit_deg = kErrorThetaLimitDeg;  // domain of max_relative and rms_relative
+  double max_relative_all = 0.0;  // max over every real geometry, up to the horizon (for information)
 };
 
 class Lut {
  public:
   LutLayout layout = LutLayout::rusinkiewicz;
   std::vector<double> wavelengths_um;       // one per channel
-  std::array<int, 3> shape{0, 0, 0};        // nodes per axis (slice: {N_u, N_v, 1})
+  std::array<int, 3> shape{0, 0, 0};        // nodes per axis (slice: {N_theta_h, N_phi_d, 1})
   std::vector<float> values;                // [channel][i0][i1][i2], 1/sr
   std::vector<std::vector<float>> specular_reflectance;  // [channel][theta_i node], dimensionless
   std::vector<std::vector<float>> renormalization;       // [channel][theta_i node], K
@@ -68,13 +117,23 @@ class Lut {
   std::map<std::string, std::string> attributes;  // model name, parameters, version, ... (file metadata)
 
   int channels() const { return static_cast<int>(wavelengths_um.size()); }
+  std::size_t nodes_per_channel() const {
+    return static_cast<std::size_t>(shape[0]) * static_cast<std::size_t>(shape[1]) * static_cast<std::size_t>(shape[2]);
+  }
   // Interpolated BRDF value (1/sr) of one channel at one geometry. For the slice layout only
-  // (cos ti, cos ts) are used (see above).
+  // (theta_h, phi_d) are used (see above).
   double lookup(int channel, const ScatterGeometry& geo) const;
   // Interpolated R_spec and K of one channel at theta_i (radians).
   double specular_at(int channel, double theta_i) const;
   double renormalization_at(int channel, double theta_i) const;
 };
+
+// The angles a node of a table of this layout/shape stands for (polar angles already limited to
+// kHorizonThetaLimitDeg where the node lies at or below the horizon). Slice: i2 = 0.
+// theta_d of a slice: half the angle between L and V (eq. 5: cos 2theta_d = L.V).
+double slice_theta_d(const Direction& light, const Direction& view);
+ScatterAngles lut_node_angles(LutLayout layout, const std::array<int, 3>& shape, int i0, int i1, int i2,
+                              const Direction& light = {}, const Direction& view = {});
 
 // What to bake.
 struct BakeRequest {
@@ -84,12 +143,24 @@ struct BakeRequest {
   std::optional<std::array<int, 3>> resolution;  // nodes per axis; absent = default or target_error
   std::optional<double> target_error;         // smallest table whose measured max relative error meets it
   Direction light, view;                      // slice layout
-  double error_floor_fraction = 1e-3;         // floor = fraction x the table's max value
-  int error_samples = 20000;
+  double error_floor_fraction = 1e-3;         // floor = fraction x the table's max value (inside the domain)
+  double error_theta_limit_deg = kErrorThetaLimitDeg;  // error domain: both polar angles <= this
+  int error_samples = 20000;                  // values compared (see measure_lut_error)
   std::uint64_t seed = 1;
-  std::function<void(double fraction_done)> progress;  // optional, called from the calling thread
+  std::function<void(double fraction_done)> progress;  // optional, called from the calling thread;
+                                                       // restarts at 0 for each table of a target search
+  // Optional, called from the calling thread after each table of a --target-error search.
+  std::function<void(const std::array<int, 3>& shape, const LutError& error)> trial_done;
   const std::atomic<bool>* cancel = nullptr;           // optional: set to abort (throws BakeCancelled)
 };
+
+// Default node counts when neither resolution nor target_error is given.
+std::array<int, 3> default_resolution(LutLayout layout);
+// --target-error search: the first table is this, each next one grows every axis by
+// kTargetGrowthFactor (rounded up), up to kMaxTargetNodes nodes per channel.
+std::array<int, 3> target_error_start_resolution(LutLayout layout);
+inline constexpr double kTargetGrowthFactor = 1.25;
+inline constexpr std::size_t kMaxTargetNodes = std::size_t{1} << 24;
 
 struct BakeCancelled : std::runtime_error {
   BakeCancelled() : std::runtime_error("bake cancelled") {}
@@ -98,22 +169,59 @@ struct BakeCancelled : std::runtime_error {
 // Bakes (multi-threaded) and measures the error at random off-grid points.
 Lut bake(const BakeRequest& request);
 
-// Measures a table's error against direct evaluation of `model` (one Model per channel).
+// Measures a table's error against direct evaluation of `model` (one Model per channel). Samples
+// are uniform in the table's own index space (every cell is tested alike), off the nodes, and
+// restricted to real geometries (both directions above the horizon); max/rms count those with
+// both polar angles <= theta_limit_deg, max_relative_all counts all. Points are drawn until
+// `samples` values (points x channels) above the floor were compared inside that domain, or
+// 50 x samples points were drawn. floor = floor_fraction x the largest value of the nodes inside
+// the domain.
 LutError measure_lut_error(const Lut& lut, const std::vector<Model>& models, int samples, double floor_fraction,
-                           std::uint64_t seed);
+                           std::uint64_t seed, double theta_limit_deg = kErrorThetaLimitDeg);
+
+// Random real geometries drawn uniformly in a layout's index space -- (sqrt(theta_h / (pi/2)),
+// theta_d, phi_d) for rusinkiewicz and merl, (sqrt(theta_h / (pi/2)), phi_d) at the directions'
+// theta_d for slice -- keeping those with both polar angles <= theta_limit_deg. The sampling of
+// measure_lut_error, for comparisons outside a table (brdf bench).
+std::vector<ScatterAngles> random_table_geometries(LutLayout layout, int count, double theta_limit_deg,
+                                                   std::uint64_t seed, const Direction& light = {},
+                                                   const Direction& view = {});
 
 // Thrown for unreadable, truncated, corrupt or foreign files: one line naming the file and the problem.
 struct LutFileError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// OpenEXR through OpenImageIO (float32, or half where stated), metadata as header attributes.
+// OpenEXR through OpenImageIO, metadata as "libbrdf:<key>" string header attributes (layout,
+// shape, axes, texel convention, model, parameters, wavelengths, measured error, version, ...).
+// Subimage 0 "brdf": the table as a float32 image, one channel per wavelength (R,G,B for three);
+// rusinkiewicz/merl: width N2, height N0*N1, pixel (x, y) = node (y / N1, y % N1, x); slice: width
+// N1, height N0. Subimage 1 "side_tables": width kThetaINodes, row 0 R_spec, row 1 K. Always
+// float32: half (4.9e-4 relative rounding, maximum 65504) would eat half of a 1e-3 error budget
+// and overflow the peaks of polished surfaces.
 // Written to a temporary beside `path` and renamed: a failed write leaves no partial file.
+// read_lut_exr throws LutFileError for anything that is not a complete, consistent libbrdf table.
 void write_lut_exr(const Lut& lut, const std::string& path);
 Lut read_lut_exr(const std::string& path);
 
-// MERL binary (layout merl, exactly 3 channels). Same temporary + rename rule.
+// MERL binary (layout merl, exactly 3 channels), plus a JSON sidecar "<path>.json" with the header
+// attributes and the R_spec / K tables (the format has no room for them). Same temporary + rename
+// rule. Without a sidecar read_merl_binary assigns wavelengths 0.65, 0.55, 0.45 um, R_spec = 0,
+// K = 1, and says so in Lut::attributes["side_tables"].
 void write_merl_binary(const Lut& lut, const std::string& path);
 Lut read_merl_binary(const std::string& path);
+
+// Reads either format, chosen by content (EXR magic number, else MERL binary).
+Lut read_lut_file(const std::string& path);
+
+// What a scene needs baked (docs/scene.md): layout, directions and channels chosen from a small
+// JSON scene description. Throws InvalidArgument("scene", ...) naming the file and the problem.
+struct ScenePlan {
+  LutLayout layout = LutLayout::rusinkiewicz;
+  Direction light, view;               // slice layout
+  std::vector<double> wavelengths_um;  // empty = the caller's default
+  std::string reason;                  // one line: why this layout
+};
+ScenePlan plan_scene_bake(const std::string& scene_json_path);
 
 }  // namespace libbrdf

@@ -73,12 +73,23 @@ class Model {
   double evaluate(const ScatterAngles& angles) const;
   // Same with derived geometry already computed (no validation; for bakes and inner loops).
   double evaluate(const ScatterGeometry& geo) const;
+  // For callers that reuse one ASF value across geometries with equal (g, c) (eq. 12 and
+  // c = pi^2 (l_c/lambda)^2 eta_r^2), e.g. a bake along phi_d at fixed (theta_h, theta_d), where
+  // cos ti + cos ts = 2 cos td cos th and eta_r = 2 cos td sin th do not depend on phi_d.
+  // uses_asf(): the model contains the ASF A of eq. 11 (mbk, mbk-fg, bk, bk-modified);
+  // asf_at(geo): the A that evaluate() uses there; evaluate(geo, asf): evaluate() with A given.
+  bool uses_asf() const;
+  double asf_at(const ScatterGeometry& geo) const;
+  double evaluate(const ScatterGeometry& geo, double asf) const;
 
   // Specular spike reflectance R_spec(ti) = F(ti) exp(-g(ti, ti)) (a delta lobe, not a BRDF
   // value), for the models that have one (the MBK and BK families); 0 otherwise.
   double specular_reflectance(double theta_i_rad) const;
   // K(ti) as used by this model (table), 1 where the model has no K.
   double renormalization(double theta_i_rad) const;
+  // The microfacet slope parameter sigma_g in use (given, or mapped by eqs 20/25; 0 when the model
+  // needs none). For exporters that map a model onto a renderer's microfacet BSDF.
+  double sigma_g() const { return sigma_g_; }
 
   ModelKind kind() const { return kind_; }
   const ModelParameters& parameters() const { return params_; }
@@ -92,6 +103,8 @@ class Model {
   Complex permittivity_{1.0, 0.0};
   double sigma_g_ = 0.0;
   std::shared_ptr<const RenormalizationTable> k_table_;
+
+  double evaluate_impl(const ScatterGeometry& geo, const double* asf_given) const;
 };
 
 }  // namespace libbrdf

@@ -1,0 +1,194 @@
+// Speed of baking and of table lookups (issue #3).
+//   bake/merl_cold    the MERL-size bake (90 x 90 x 180 nodes x 3 wavelengths 0.65, 0.55, 0.45 um)
+//                     of mbk with K, gold, sigma_s = 0.1 um, l_c = 2 um, including the three K
+//                     tables (each iteration bakes a surface 1e-12 apart, so K is never cached),
+//                     wall seconds on this machine (all cores; oneTBB), and the CPU seconds of
+//                     all threads (cpu_s_all_threads; wall ~ that / cores on an idle machine).
+//   bake/merl_cached  the same bake with the K tables already cached (the node evaluations alone).
+//   ktable/<lambda>   one RenormalizationTable (91 nodes of eq. 13 by quadrature), per wavelength.
+//   lookup/...        single-threaded Lut::lookup of a 90^3 rusinkiewicz table and the MERL table,
+//   model/...         Model::evaluate (default settings, and the reference: tolerance 0 and
+//                     SeriesMethod::every_term), on the same 4096 random geometries.
+// Counters beside the speed: max_rel_err / rms_rel_err against the reference series over values
+// >= 1e-3 of its maximum; speedup = reference CPU time per evaluation / this one's, the reference
+// (model/reference) timed in the same run (its row reads 1); vs_model_evaluate = the same ratio
+// against Model::evaluate at its default settings (model/default, also timed in this run).
+// Run: build/bench/bench_bake [--benchmark_filter=lookup]
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <ctime>
+#include <memory>
+#include <vector>
+
+#include "libbrdf/lut.h"
+#include "libbrdf/materials.h"
+#include "libbrdf/models.h"
+#include "libbrdf/renormalization.h"
+
+namespace {
+
+using namespace libbrdf;
+
+ModelParameters gold(double wavelength_um, double sigma_s_um = 0.1) {
+  ModelParameters p;
+  p.sigma_s_um = sigma_s_um;
+  p.lc_um = 2.0;
+  p.wavelength_um = wavelength_um;
+  p.index = material_index("Au", wavelength_um);
+  return p;
+}
+
+double cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+BakeRequest merl_request(double sigma_s_um) {
+  BakeRequest r;
+  r.model = ModelKind::mbk;
+  r.layout = LutLayout::merl;
+  for (double w : {0.65, 0.55, 0.45}) r.channels.push_back(gold(w, sigma_s_um));
+  r.error_samples = 20000;
+  return r;
+}
+
+void BM_BakeMerlCold(benchmark::State& state) {
+  int iteration = 0;
+  double error = 0.0;
+  const double cpu_start = cpu_seconds();
+  for (auto _ : state) {
+    // A new sigma_s each time: the K tables are built inside the timed bake.
+    const Lut lut = bake(merl_request(0.1 * (1.0 + 1e-12 * ++iteration)));
+    error = lut.error.max_relative;
+    benchmark::DoNotOptimize(lut.values.data());
+  }
+  state.counters["nodes"] = 90.0 * 90 * 180 * 3;
+  state.counters["lut_max_rel_err"] = error;
+  state.counters["cpu_s_all_threads"] = (cpu_seconds() - cpu_start) / double(state.iterations());
+}
+BENCHMARK(BM_BakeMerlCold)->Name("bake/merl_cold")->Unit(benchmark::kSecond)->UseRealTime()->Iterations(3);
+
+void BM_BakeMerlCached(benchmark::State& state) {
+  const BakeRequest request = merl_request(0.1);
+  (void)bake(request);  // builds and caches the K tables
+  const double cpu_start = cpu_seconds();
+  for (auto _ : state) {
+    const Lut lut = bake(request);
+    benchmark::DoNotOptimize(lut.values.data());
+  }
+  state.counters["cpu_s_all_threads"] = (cpu_seconds() - cpu_start) / double(state.iterations());
+}
+BENCHMARK(BM_BakeMerlCached)->Name("bake/merl_cached")->Unit(benchmark::kSecond)->UseRealTime()->Iterations(3);
+
+void BM_KTable(benchmark::State& state) {
+  const double wavelength = double(state.range(0)) / 1000.0;
+  const Surface surface{0.1, 2.0, wavelength};
+  const double cpu_start = cpu_seconds();
+  for (auto _ : state) {
+    const RenormalizationTable table(surface, KMode::plane);
+    benchmark::DoNotOptimize(table.node_values().data());
+  }
+  state.counters["cpu_s_all_threads"] = (cpu_seconds() - cpu_start) / double(state.iterations());
+}
+BENCHMARK(BM_KTable)->Name("ktable/lambda_nm")->Arg(650)->Arg(550)->Arg(450)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Shared fixture for the per-evaluation benchmarks: random geometries, reference values and the
+// reference's CPU time per evaluation (measured by the first benchmark of the group).
+struct Fixture {
+  std::vector<ScatterGeometry> geometries;
+  std::vector<double> reference;
+  double floor = 0.0;
+  double reference_seconds_per_eval = 0.0, default_seconds_per_eval = 0.0;
+  std::unique_ptr<Model> reference_model, default_model;
+  Lut rusinkiewicz, merl;
+
+  static Fixture& get() {
+    static Fixture f;
+    return f;
+  }
+
+ private:
+  Fixture() {
+    for (const ScatterAngles& a : random_table_geometries(LutLayout::rusinkiewicz, 4096, kErrorThetaLimitDeg, 7))
+      geometries.push_back(make_scatter_geometry(a));
+    ModelParameters ref = gold(0.55);
+    ref.tolerance = 0.0;
+    ref.series.method = SeriesMethod::every_term;
+    reference_model = std::make_unique<Model>(ModelKind::mbk, ref);
+    default_model = std::make_unique<Model>(ModelKind::mbk, gold(0.55));
+    double peak = 0.0;
+    for (const ScatterGeometry& g : geometries) {
+      reference.push_back(reference_model->evaluate(g));
+      peak = std::max(peak, reference.back());
+    }
+    floor = 1e-3 * peak;
+    BakeRequest r;
+    r.model = ModelKind::mbk;
+    r.channels = {gold(0.55)};
+    r.resolution = std::array<int, 3>{90, 90, 90};
+    rusinkiewicz = bake(r);
+    r.layout = LutLayout::merl;
+    r.resolution.reset();
+    merl = bake(r);
+  }
+};
+
+enum class Role { reference, model_default, other };
+
+template <class F>
+void per_evaluation(benchmark::State& state, F&& f, Role role) {
+  Fixture& fx = Fixture::get();
+  const double start = cpu_seconds();
+  std::size_t evaluations = 0;
+  for (auto _ : state) {
+    double sum = 0.0;
+    for (const ScatterGeometry& g : fx.geometries) sum += f(g);
+    benchmark::DoNotOptimize(sum);
+    evaluations += fx.geometries.size();
+  }
+  const double seconds_per_eval = (cpu_seconds() - start) / double(evaluations);
+  if (role == Role::reference) fx.reference_seconds_per_eval = seconds_per_eval;
+  if (role == Role::model_default) fx.default_seconds_per_eval = seconds_per_eval;
+  double worst = 0.0, sum_squares = 0.0;
+  int count = 0;
+  for (std::size_t i = 0; i < fx.geometries.size(); ++i) {
+    if (fx.reference[i] < fx.floor || fx.reference[i] <= 0.0) continue;
+    const double e = std::abs(f(fx.geometries[i]) - fx.reference[i]) / fx.reference[i];
+    worst = std::max(worst, e);
+    sum_squares += e * e;
+    ++count;
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(evaluations));
+  state.counters["max_rel_err"] = worst;
+  state.counters["rms_rel_err"] = count ? std::sqrt(sum_squares / count) : 0.0;
+  if (fx.reference_seconds_per_eval > 0.0) state.counters["speedup"] = fx.reference_seconds_per_eval / seconds_per_eval;
+  if (fx.default_seconds_per_eval > 0.0)
+    state.counters["vs_model_evaluate"] = fx.default_seconds_per_eval / seconds_per_eval;
+}
+
+void BM_ModelReference(benchmark::State& state) {
+  const Model& m = *Fixture::get().reference_model;
+  per_evaluation(state, [&m](const ScatterGeometry& g) { return m.evaluate(g); }, Role::reference);
+}
+void BM_ModelDefault(benchmark::State& state) {
+  const Model& m = *Fixture::get().default_model;
+  per_evaluation(state, [&m](const ScatterGeometry& g) { return m.evaluate(g); }, Role::model_default);
+}
+void BM_LookupRusinkiewicz(benchmark::State& state) {
+  const Lut& lut = Fixture::get().rusinkiewicz;
+  per_evaluation(state, [&lut](const ScatterGeometry& g) { return lut.lookup(0, g); }, Role::other);
+}
+void BM_LookupMerl(benchmark::State& state) {
+  const Lut& lut = Fixture::get().merl;
+  per_evaluation(state, [&lut](const ScatterGeometry& g) { return lut.lookup(0, g); }, Role::other);
+}
+BENCHMARK(BM_ModelReference)->Name("model/reference");
+BENCHMARK(BM_ModelDefault)->Name("model/default");
+BENCHMARK(BM_LookupRusinkiewicz)->Name("lookup/rusinkiewicz_90^3");
+BENCHMARK(BM_LookupMerl)->Name("lookup/merl");
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,331 @@
+"""Node graphs of the libbrdf materials as plain data (no bpy): blender_nodes.py instantiates them,
+tests interpret them (tests/blender/graph_interpreter.py) without Blender.
+
+A Graph is a list of Node(id, type, props, inputs) and links (from node, output) -> (to node,
+input); sockets are named by index (Math nodes have three inputs called "Value") or by name.
+Group sockets: node ids "GROUP_INPUT" / "GROUP_OUTPUT", sockets by name.
+
+LUT graph (the rusinkiewicz lookup of exporters/include/exporters/blender.h in shader nodes):
+  N = shading normal, V = Incoming (towards the viewer), L = group input "Light Direction"
+  H = normalize(L + V)
+  theta_h = atan2(|N x H|, N.H), theta_d = atan2(|L x H|, L.H)       (atan2: exact near 0)
+  cos phi_d = (cos theta_h cos theta_d - N.L) / (sin theta_h sin theta_d), clamped to [-1, 1]
+  u0 = sqrt(theta_h / (pi/2)) (N0-1),  u1 = theta_d / (pi/2) (N1-1),  u2 = phi_d / pi (N2-1)
+  trilinear between the 8 nodes around (u0, u1, u2), each fetched with Closest interpolation at
+  its texel centre ((x + 0.5)/W, (y + 0.5)/H): no filtering or mip level can mix tiles (EEVEE).
+  Radiance = f_r cos(theta_i) E_sun C_sun for N.L > 0 and N.V > 0, emitted; plus a sharp Glossy
+  weighted by R_spec(theta_v), theta_v = atan2(|N x V|, N.V), linear between the R_spec nodes.
+"""
+
+import dataclasses
+import math
+import os
+
+GROUP_INPUT = "GROUP_INPUT"
+GROUP_OUTPUT = "GROUP_OUTPUT"
+
+# Group interface of every libbrdf node group: (name, socket type, default).
+LIGHT_INPUTS = (
+    ("Light Direction", "NodeSocketVector", (0.0, 0.0, 1.0)),
+    ("Sun Strength", "NodeSocketFloat", 1.0),
+    ("Sun Color", "NodeSocketColor", (1.0, 1.0, 1.0, 1.0)),
+)
+SHADER_OUTPUT = ("Shader", "NodeSocketShader")
+# The specular spike's mirror lobe: GGX at roughness 1e-3 (alpha^2 = 1e-12). Cycles takes any
+# alpha^2 <= 1e-7 as a perfect mirror; EEVEE gives NaN pixels at exactly 0 (Blender 3.4, seen in
+# tests/blender/test_blender_render.py --engine BLENDER_EEVEE), not at 1e-3.
+MIRROR_ROUGHNESS = 1e-3
+
+
+@dataclasses.dataclass
+class Node:
+    id: str
+    type: str                    # bl_idname, e.g. "ShaderNodeMath"
+    props: dict = dataclasses.field(default_factory=dict)    # e.g. {"operation": "ADD"}
+    inputs: dict = dataclasses.field(default_factory=dict)   # socket -> constant default
+    label: str = ""
+
+
+@dataclasses.dataclass(frozen=True)
+class Out:
+    """An output socket: node id and output (index or name)."""
+    node: str
+    socket: object = 0
+
+
+@dataclasses.dataclass
+class Graph:
+    name: str
+    inputs: list = dataclasses.field(default_factory=list)    # (name, socket type, default)
+    outputs: list = dataclasses.field(default_factory=list)   # (name, socket type)
+    nodes: list = dataclasses.field(default_factory=list)
+    links: list = dataclasses.field(default_factory=list)     # (Out, to node id, to socket)
+    images: dict = dataclasses.field(default_factory=dict)    # image key -> absolute file path
+    notes: dict = dataclasses.field(default_factory=dict)
+
+    def node(self, node_id):
+        for n in self.nodes:
+            if n.id == node_id:
+                return n
+        raise KeyError(node_id)
+
+
+class _Builder:
+    """Adds nodes and links; arguments are constants or Out sockets."""
+
+    def __init__(self, graph):
+        self.g = graph
+        self.count = 0
+
+    def add(self, type_, props=None, label=""):
+        self.count += 1
+        node = Node(f"{type_.replace('ShaderNode', '')}.{self.count:03d}", type_, dict(props or {}), {}, label)
+        self.g.nodes.append(node)
+        return node
+
+    def connect(self, node, socket, value):
+        if isinstance(value, Out):
+            self.g.links.append((value, node.id, socket))
+        elif value is not None:
+            node.inputs[socket] = value
+
+    def math(self, op, a, b=None, c=None, label=""):
+        n = self.add("ShaderNodeMath", {"operation": op}, label)
+        for i, v in enumerate((a, b, c)):
+            self.connect(n, i, v)
+        return Out(n.id, 0)
+
+    def vmath(self, op, a, b=None, c=None, scale=None, label="", out=0):
+        n = self.add("ShaderNodeVectorMath", {"operation": op}, label)
+        for i, v in enumerate((a, b, c, scale)):
+            self.connect(n, i, v)
+        return Out(n.id, out)
+
+    def dot(self, a, b, label=""):
+        return self.vmath("DOT_PRODUCT", a, b, label=label, out=1)
+
+    def length(self, a):
+        return self.vmath("LENGTH", a, out=1)
+
+    def clamp(self, x, lo, hi):
+        return self.math("MINIMUM", self.math("MAXIMUM", x, lo), hi)
+
+    def combine(self, x, y, z=0.0):
+        n = self.add("ShaderNodeCombineXYZ")
+        for i, v in enumerate((x, y, z)):
+            self.connect(n, i, v)
+        return Out(n.id, 0)
+
+    def lerp(self, a, b, t):
+        """a + t (b - a) on colours/vectors (t a float: broadcast by Blender's implicit conversion)."""
+        return self.vmath("MULTIPLY_ADD", self.vmath("SUBTRACT", b, a), t, a)
+
+    def split(self, u, nodes):
+        """Cell index i = clamp(floor(u), 0, nodes - 2) and fraction t = clamp(u - i, 0, 1)."""
+        i = self.clamp(self.math("FLOOR", u), 0.0, float(nodes - 2))
+        t = self.clamp(self.math("SUBTRACT", u, i), 0.0, 1.0)
+        return i, t
+
+    def angle(self, a, b):
+        """Angle between unit vectors a, b: atan2(|a x b|, a.b)."""
+        return self.math("ARCTAN2", self.length(self.vmath("CROSS_PRODUCT", a, b)), self.dot(a, b))
+
+    def texel(self, image_key, uv, label=""):
+        n = self.add("ShaderNodeTexImage", {"image": image_key, "interpolation": "Closest",
+                                            "extension": "EXTEND"}, label)
+        self.connect(n, 0, uv)
+        return Out(n.id, 0)
+
+
+def _group(name):
+    return Graph(name=name, inputs=list(LIGHT_INPUTS),
+                 outputs=[SHADER_OUTPUT, ("Radiance", "NodeSocketColor"), ("Specular Weight", "NodeSocketColor")])
+
+
+def lut_graph(description, atlas_path):
+    """The LUT-mode node group for a description (dict from core.load_description)."""
+    lut = description["lut"]
+    n0, n1, n2 = lut["theta_h"]["nodes"], lut["theta_d"]["nodes"], lut["phi_d"]["nodes"]
+    columns, width, height = lut["columns"], lut["width"], lut["height"]
+    spec_nodes, spec_row = lut["specular"]["nodes"], lut["specular"]["row"]
+
+    g = _group(f"libbrdf {description['name']}")
+    g.images["atlas"] = atlas_path
+    g.notes.update(mode="LUT", shape=(n0, n1, n2))
+    b = _Builder(g)
+    geometry = b.add("ShaderNodeNewGeometry")
+    n_vec = b.vmath("NORMALIZE", Out(geometry.id, "Normal"), label="N")
+    v_vec = b.vmath("NORMALIZE", Out(geometry.id, "Incoming"), label="V")
+    l_vec = b.vmath("NORMALIZE", Out(GROUP_INPUT, "Light Direction"), label="L")
+    h_vec = b.vmath("NORMALIZE", b.vmath("ADD", l_vec, v_vec), label="H")
+
+    cos_i = b.dot(n_vec, l_vec, label="cos theta_i")
+    cos_s = b.dot(n_vec, v_vec, label="cos theta_s")
+    theta_h = b.angle(n_vec, h_vec)
+    theta_d = b.angle(l_vec, h_vec)
+    sin_h = b.length(b.vmath("CROSS_PRODUCT", n_vec, h_vec))
+    sin_d = b.length(b.vmath("CROSS_PRODUCT", l_vec, h_vec))
+    cos_h, cos_d = b.dot(n_vec, h_vec), b.dot(l_vec, h_vec)
+    # cos phi_d by spherical trigonometry in the triangle (N, H, L) (blender.h); any phi_d where
+    # H = N or L = H (the denominator vanishes and the table does not depend on phi_d).
+    numerator = b.math("SUBTRACT", b.math("MULTIPLY", cos_h, cos_d), cos_i)
+    denominator = b.math("MAXIMUM", b.math("MULTIPLY", sin_h, sin_d), 1e-7)
+    cos_phi = b.clamp(b.math("DIVIDE", numerator, denominator), -1.0, 1.0)
+    phi_d = b.math("ARCCOSINE", cos_phi)
+
+    u0 = b.math("MULTIPLY", b.math("SQRT", b.math("DIVIDE", theta_h, math.pi / 2)), float(n0 - 1), label="u theta_h")
+    u1 = b.math("MULTIPLY", theta_d, (n1 - 1) / (math.pi / 2), label="u theta_d")
+    u2 = b.math("MULTIPLY", phi_d, (n2 - 1) / math.pi, label="u phi_d")
+    i0, t0 = b.split(u0, n0)
+    i1, t1 = b.split(u1, n1)
+    i2, t2 = b.split(u2, n2)
+
+    inv_size = (1.0 / width, 1.0 / height, 0.0)
+    tiles = []
+    for dk in (0.0, 1.0):
+        k = b.math("ADD", i2, dk) if dk else i2
+        tile_row = b.math("FLOOR", b.math("DIVIDE", b.math("ADD", k, 0.5), float(columns)))
+        tile_column = b.math("SUBTRACT", k, b.math("MULTIPLY", tile_row, float(columns)))
+        x = b.math("MULTIPLY_ADD", tile_column, float(n0), b.math("ADD", i0, 0.5))
+        y = b.math("MULTIPLY_ADD", tile_row, float(n1), b.math("ADD", i1, 0.5))
+        base = b.vmath("MULTIPLY", b.combine(x, y), inv_size)
+        corner = {}
+        for da in (0, 1):
+            for db in (0, 1):
+                uv = b.vmath("ADD", base, (da / width, db / height, 0.0)) if (da or db) else base
+                corner[da, db] = b.texel("atlas", uv, label=f"node i0+{da} i1+{db} k+{int(dk)}")
+        along_h0 = b.lerp(corner[0, 0], corner[1, 0], t0)
+        along_h1 = b.lerp(corner[0, 1], corner[1, 1], t0)
+        tiles.append(b.lerp(along_h0, along_h1, t1))
+    brdf = b.lerp(tiles[0], tiles[1], t2)
+
+    lit = b.math("MULTIPLY", b.math("GREATER_THAN", cos_i, 0.0), b.math("GREATER_THAN", cos_s, 0.0))
+    scale = b.math("MULTIPLY", b.math("MULTIPLY", cos_i, lit), Out(GROUP_INPUT, "Sun Strength"))
+    radiance = b.vmath("MULTIPLY", b.vmath("SCALE", brdf, scale=scale), Out(GROUP_INPUT, "Sun Color"), label="Radiance")
+
+    # R_spec(theta_v) of the specular spike (row spec_row, nodes over [0, 90] deg).
+    theta_v = b.angle(n_vec, v_vec)
+    j, tj = b.split(b.math("MULTIPLY", theta_v, (spec_nodes - 1) / (math.pi / 2)), spec_nodes)
+    uv0 = b.combine(b.math("DIVIDE", b.math("ADD", j, 0.5), float(width)), (spec_row + 0.5) / height)
+    uv1 = b.vmath("ADD", uv0, (1.0 / width, 0.0, 0.0))
+    spec = b.lerp(b.texel("atlas", uv0, label="R_spec j"), b.texel("atlas", uv1, label="R_spec j+1"), tj)
+    spec = b.vmath("SCALE", spec, scale=b.math("GREATER_THAN", cos_s, 0.0), label="R_spec")  # none from behind
+
+    _finish(b, g, radiance, spec)
+    return g
+
+
+def _finish(b, g, radiance, spec_weight):
+    """Emission(radiance) + sharp Glossy(spec_weight) -> Shader; also the colour outputs."""
+    emission = b.add("ShaderNodeEmission")
+    b.connect(emission, "Color", radiance)
+    b.connect(emission, "Strength", 1.0)
+    mirror = b.add("ShaderNodeBsdfGlossy", {"distribution": "GGX"}, label="specular spike")
+    b.connect(mirror, "Color", spec_weight)
+    b.connect(mirror, "Roughness", MIRROR_ROUGHNESS)
+    total = b.add("ShaderNodeAddShader")
+    g.links.append((Out(emission.id, 0), total.id, 0))
+    g.links.append((Out(mirror.id, 0), total.id, 1))
+    g.links.append((Out(total.id, 0), GROUP_OUTPUT, "Shader"))
+    g.links.append((radiance, GROUP_OUTPUT, "Radiance"))
+    g.links.append((spec_weight, GROUP_OUTPUT, "Specular Weight"))
+
+
+def fit_graph(description):
+    """FIT mode: Glossy BSDF (Beckmann) per channel, colour k0 * Schlick(F0, theta_v), and the
+    spike as a sharp Glossy weighted by Schlick(F0, theta_v) exp(-g0 cos^2 theta_v)."""
+    fit = description["fit"]
+    f0 = _rgb(fit["f0"])
+    k0 = _rgb(fit["k0"])
+    g0 = _rgb(fit["g0"])
+    roughness = _rgb(fit["roughness"])
+    g = Graph(name=f"libbrdf {description['name']} (fit)", inputs=list(LIGHT_INPUTS),
+              outputs=[SHADER_OUTPUT, ("Specular Weight", "NodeSocketColor")])
+    g.notes.update(mode="FIT", roughness=roughness, f0=f0)
+    b = _Builder(g)
+    geometry = b.add("ShaderNodeNewGeometry")
+    n_vec = b.vmath("NORMALIZE", Out(geometry.id, "Normal"))
+    v_vec = b.vmath("NORMALIZE", Out(geometry.id, "Incoming"))
+    cos_v = b.clamp(b.dot(n_vec, v_vec), 0.0, 1.0)
+    schlick_w = b.math("POWER", b.math("SUBTRACT", 1.0, cos_v), 5.0)
+    fresnel = b.vmath("MULTIPLY_ADD", tuple(1.0 - f for f in f0), schlick_w, f0, label="Schlick F")
+    colour = b.vmath("MULTIPLY", fresnel, k0, label="k0 F")
+
+    shaders = []
+    if max(roughness) > 0.0:
+        same = max(roughness) - min(roughness) <= 1e-9 * max(roughness)
+        masks = [(1.0, 1.0, 1.0)] if same else [(1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)]
+        for c, mask in enumerate(masks):
+            glossy = b.add("ShaderNodeBsdfGlossy", {"distribution": "BECKMANN"}, label=f"Beckmann {'RGB'[c] if not same else ''}")
+            b.connect(glossy, "Color", b.vmath("MULTIPLY", colour, mask) if not same else colour)
+            b.connect(glossy, "Roughness", roughness[c])
+            shaders.append(Out(glossy.id, 0))
+    rho_d = float(fit.get("rho_d", 0.0))
+    if rho_d > 0.0:
+        diffuse = b.add("ShaderNodeBsdfDiffuse")
+        b.connect(diffuse, "Color", (rho_d, rho_d, rho_d, 1.0))
+        shaders.append(Out(diffuse.id, 0))
+    cos2 = b.math("MULTIPLY", cos_v, cos_v)
+    if fit.get("has_spike", False):
+        damping = b.combine(*[b.math("EXPONENT", b.math("MULTIPLY", cos2, -g0[c])) for c in range(3)])
+        spec = b.vmath("MULTIPLY", fresnel, damping, label="R_spec")
+        mirror = b.add("ShaderNodeBsdfGlossy", {"distribution": "GGX"}, label="specular spike")
+        b.connect(mirror, "Color", spec)
+        b.connect(mirror, "Roughness", MIRROR_ROUGHNESS)
+        shaders.append(Out(mirror.id, 0))
+        g.links.append((spec, GROUP_OUTPUT, "Specular Weight"))
+    total = _sum_shaders(b, g, shaders)
+    g.links.append((total, GROUP_OUTPUT, "Shader"))
+    return g
+
+
+def _sum_shaders(b, g, shaders):
+    if not shaders:
+        black = b.add("ShaderNodeEmission")
+        b.connect(black, "Strength", 0.0)
+        return Out(black.id, 0)
+    total = shaders[0]
+    for s in shaders[1:]:
+        add = b.add("ShaderNodeAddShader")
+        g.links.append((total, add.id, 0))
+        g.links.append((s, add.id, 1))
+        total = Out(add.id, 0)
+    return total
+
+
+def osl_graph(description, osl_path):
+    """OSL mode: one Script node (external file); its sockets appear once Blender compiled it."""
+    g = Graph(name=f"libbrdf {description['name']} (osl)", inputs=list(LIGHT_INPUTS),
+              outputs=[SHADER_OUTPUT, ("Radiance", "NodeSocketColor"), ("Specular Weight", "NodeSocketColor")])
+    g.notes.update(mode="OSL", shader=description["osl"]["shader"])
+    b = _Builder(g)
+    script = b.add("ShaderNodeScript", {"mode": "EXTERNAL", "filepath": osl_path}, label="libbrdf OSL")
+    # Links to sockets of the compiled script (same names as the shader's parameters).
+    g.notes["script_links"] = [
+        ((GROUP_INPUT, "Light Direction"), (script.id, "LightDirection")),
+        ((GROUP_INPUT, "Sun Strength"), (script.id, "SunStrength")),
+        ((GROUP_INPUT, "Sun Color"), (script.id, "SunColor")),
+        ((script.id, "BSDF"), (GROUP_OUTPUT, "Shader")),
+        ((script.id, "Radiance"), (GROUP_OUTPUT, "Radiance")),
+        ((script.id, "SpecularWeight"), (GROUP_OUTPUT, "Specular Weight")),
+    ]
+    g.notes["script_node"] = script.id
+    return g
+
+
+def _rgb(values):
+    values = [float(v) for v in values]
+    return tuple(values * 3) if len(values) == 1 else tuple(values[:3])
+
+
+def graph_for(description, description_path):
+    """The graph of a description's mode (paths resolved beside the description)."""
+    directory = os.path.dirname(os.path.abspath(description_path))
+    mode = description["mode"]
+    if mode == "lut":
+        return lut_graph(description, os.path.join(directory, description["lut"]["file"]))
+    if mode == "fit":
+        return fit_graph(description)
+    if mode == "osl":
+        return osl_graph(description, os.path.join(directory, description["osl"]["file"]))
+    raise ValueError(f"mode: unknown mode {mode!r} in the description")

@@ -1,0 +1,343 @@
+// `brdf bench [--out DIR] [--quick]`: speed against error of every BRDF model, every fast path of
+// the core and baked tables of several layouts and sizes, all measured in one run.
+//
+// For three gold surfaces at 0.55 um (polished sigma_s = 0.01 um, l_c = 2 um; intermediate 0.1, 2;
+// rough 0.5, 5) and one set of random geometries (uniform in (sqrt theta_h, theta_d, phi_d), both
+// polar angles <= 85 deg; libbrdf::random_table_geometries), each row gives:
+//   evals_per_s    single-threaded evaluations (or table lookups) per second over the set;
+//   speed_ratio    evals_per_s / that of the row's reference, timed in the same run;
+//   max/rms_rel_error  against the reference: the same model with tolerance 0 and
+//                  SeriesMethod::every_term (mbk for the mbk fast paths and mbk-polished/-rough),
+//                  over values >= floor = 1e-3 x the reference's largest value on the set.
+// Slice tables are checked on their own set (geometries of a sun + orthographic camera scene).
+// Writes DIR/bench.csv and DIR/bench.png (tools/plot_bench.py, run with /usr/bin/python3).
+#include <spawn.h>
+#include <sys/wait.h>
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "commands.h"
+#include "libbrdf/error.h"
+#include "libbrdf/lut.h"
+#include "libbrdf/materials.h"
+#include "libbrdf/models.h"
+
+extern char** environ;
+
+namespace brdf_cli {
+
+namespace {
+
+using libbrdf::LutLayout;
+using libbrdf::Model;
+using libbrdf::ModelKind;
+using libbrdf::ModelParameters;
+using libbrdf::ScatterGeometry;
+
+struct BenchOptions {
+  std::string out = "out/bench";
+  bool quick = false;
+};
+
+struct BenchSurface {
+  const char* name;
+  double sigma_s_um, lc_um;
+};
+constexpr BenchSurface kSurfaces[] = {{"polished", 0.01, 2.0}, {"intermediate", 0.1, 2.0}, {"rough", 0.5, 5.0}};
+constexpr double kWavelengthUm = 0.55;
+constexpr double kFloorFraction = 1e-3;
+const libbrdf::Direction kSunDirection{0.3, 0.0, 1.0}, kCameraDirection{-0.5, 0.2, 1.0};
+
+struct Row {
+  std::string kind, model, surface, variant, layout, shape;
+  double nodes = 0, evals_per_s = 0, speed_ratio = 0, max_rel_error = 0, rms_rel_error = 0, floor = 0;
+  int samples = 0;
+};
+
+// A set of geometries with the reference values of each model family on it.
+struct QuerySet {
+  std::vector<ScatterGeometry> geometries;
+};
+
+QuerySet make_queries(LutLayout layout, int count, std::uint64_t seed) {
+  QuerySet q;
+  for (const libbrdf::ScatterAngles& a :
+       libbrdf::random_table_geometries(layout, count, libbrdf::kErrorThetaLimitDeg, seed, kSunDirection, kCameraDirection))
+    q.geometries.push_back(libbrdf::make_scatter_geometry(a));
+  return q;
+}
+
+using Evaluator = std::function<double(const ScatterGeometry&)>;
+
+// Values of f on the set, multi-threaded (not timed).
+std::vector<double> values_on(const QuerySet& q, const Evaluator& f) {
+  std::vector<double> out(q.geometries.size());
+  tbb::parallel_for(std::size_t{0}, out.size(), [&](std::size_t i) { out[i] = f(q.geometries[i]); });
+  return out;
+}
+
+// Single-threaded evaluations per second: whole passes over the set until min_seconds elapsed.
+double evals_per_second(const QuerySet& q, const Evaluator& f, double min_seconds) {
+  using clock = std::chrono::steady_clock;
+  volatile double sink = 0.0;
+  std::size_t count = 0;
+  const auto start = clock::now();
+  double elapsed = 0.0;
+  do {
+    double sum = 0.0;
+    for (const ScatterGeometry& g : q.geometries) sum += f(g);
+    sink = sink + sum;
+    count += q.geometries.size();
+    elapsed = std::chrono::duration<double>(clock::now() - start).count();
+  } while (elapsed < min_seconds);
+  return double(count) / elapsed;
+}
+
+void fill_errors(Row& row, const std::vector<double>& values, const std::vector<double>& reference) {
+  double peak = 0.0;
+  for (double r : reference) peak = std::max(peak, r);
+  row.floor = kFloorFraction * peak;
+  double sum_squares = 0.0;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (!(reference[i] >= row.floor) || reference[i] <= 0.0) continue;
+    const double e = std::abs(values[i] - reference[i]) / reference[i];
+    row.max_rel_error = std::max(row.max_rel_error, e);
+    sum_squares += e * e;
+    ++row.samples;
+  }
+  row.rms_rel_error = row.samples ? std::sqrt(sum_squares / row.samples) : 0.0;
+}
+
+ModelParameters gold(const BenchSurface& s) {
+  ModelParameters p;
+  p.sigma_s_um = s.sigma_s_um;
+  p.lc_um = s.lc_um;
+  p.wavelength_um = kWavelengthUm;
+  p.index = libbrdf::material_index("Au", kWavelengthUm);
+  return p;
+}
+
+ModelParameters reference_parameters(const BenchSurface& s) {
+  ModelParameters p = gold(s);
+  p.tolerance = 0.0;
+  p.series.method = libbrdf::SeriesMethod::every_term;
+  return p;
+}
+
+std::string shape_text(const libbrdf::Lut& lut) {
+  std::string text = std::to_string(lut.shape[0]) + "x" + std::to_string(lut.shape[1]);
+  if (lut.layout != LutLayout::slice) text += "x" + std::to_string(lut.shape[2]);
+  return text;
+}
+
+// The reference of a model: itself at tolerance 0 / every_term, mbk for its closed forms.
+ModelKind reference_kind(ModelKind kind) {
+  return kind == ModelKind::mbk_polished || kind == ModelKind::mbk_rough ? ModelKind::mbk : kind;
+}
+
+struct Reference {
+  std::unique_ptr<Model> model;
+  std::vector<double> values;
+  double evals_per_s = 0.0;
+};
+
+class Bench {
+ public:
+  explicit Bench(bool quick) : quick_(quick), min_seconds_(quick ? 0.04 : 0.25) {
+    const int count = quick ? 1500 : 8000;
+    full_ = make_queries(LutLayout::rusinkiewicz, count, 1);
+    slice_ = make_queries(LutLayout::slice, count, 2);
+  }
+
+  void run_surface(const BenchSurface& s) {
+    references_.clear();
+    slice_references_.clear();
+    // Models: every BRDF at its default settings. mbk's default (auto regime, tolerance 1e-6) is
+    // listed with its fast paths.
+    for (ModelKind kind : {ModelKind::mbk_fg, ModelKind::bk, ModelKind::bk_modified, ModelKind::microfacet})
+      add_model_row("model", kind, s, gold(s), "default");
+    add_model_row("fast_path", ModelKind::mbk, s, gold(s), "auto regime tol 1e-6 (default)");
+    ModelParameters loose = gold(s);
+    loose.tolerance = 1e-3;
+    add_model_row("fast_path", ModelKind::mbk, s, loose, "auto regime tol 1e-3");
+    ModelParameters strided = reference_parameters(s);
+    strided.series.method = libbrdf::SeriesMethod::strided;
+    add_model_row("fast_path", ModelKind::mbk, s, strided, "series strided (tol 0)");
+    add_model_row("fast_path", ModelKind::mbk_polished, s, gold(s), "closed form eq. 14");
+    add_model_row("fast_path", ModelKind::mbk_rough, s, gold(s), "closed form eq. 15");
+    ModelParameters tis = gold(s);
+    tis.k_mode = libbrdf::KMode::tis;
+    add_model_row("fast_path", ModelKind::mbk, s, tis, "k-mode tis (vs plane)");
+
+    // Tables of every model, and several layouts and sizes for mbk.
+    const int n = quick_ ? 48 : 90;
+    for (ModelKind kind : {ModelKind::mbk, ModelKind::mbk_polished, ModelKind::mbk_rough, ModelKind::mbk_fg,
+                           ModelKind::bk, ModelKind::bk_modified, ModelKind::microfacet})
+      add_lut_row(kind, s, LutLayout::rusinkiewicz, std::array<int, 3>{n, n, n});
+    add_lut_row(ModelKind::mbk, s, LutLayout::rusinkiewicz, {24, 24, 24});
+    if (!quick_) add_lut_row(ModelKind::mbk, s, LutLayout::rusinkiewicz, {160, 160, 160});
+    add_lut_row(ModelKind::mbk, s, LutLayout::merl, libbrdf::kMerlShape);
+    add_lut_row(ModelKind::mbk, s, LutLayout::slice, {64, 32, 1});
+    add_lut_row(ModelKind::mbk, s, LutLayout::slice, {256, 128, 1});
+    if (!quick_) add_lut_row(ModelKind::mbk, s, LutLayout::slice, {1024, 512, 1});
+  }
+
+  const std::vector<Row>& rows() const { return rows_; }
+
+ private:
+  Reference& reference(ModelKind kind, const BenchSurface& s, bool slice) {
+    auto& table = slice ? slice_references_ : references_;
+    const ModelKind ref_kind = reference_kind(kind);
+    auto it = table.find(ref_kind);
+    if (it != table.end()) return it->second;
+    Reference& ref = table[ref_kind];
+    ref.model = std::make_unique<Model>(ref_kind, reference_parameters(s));
+    const QuerySet& q = slice ? slice_ : full_;
+    const Model& m = *ref.model;
+    ref.values = values_on(q, [&m](const ScatterGeometry& g) { return m.evaluate(g); });
+    ref.evals_per_s = evals_per_second(q, [&m](const ScatterGeometry& g) { return m.evaluate(g); }, min_seconds_);
+    if (!slice) {
+      Row row{"model", std::string(libbrdf::model_name(ref_kind)), s.name, "reference", "", ""};
+      row.evals_per_s = ref.evals_per_s;
+      row.speed_ratio = 1.0;
+      fill_errors(row, ref.values, ref.values);
+      rows_.push_back(row);
+    }
+    return ref;
+  }
+
+  void add_model_row(const char* kind_text, ModelKind kind, const BenchSurface& s, const ModelParameters& p,
+                     const std::string& variant) {
+    Reference& ref = reference(kind, s, false);
+    const Model model(kind, p);
+    Row row{kind_text, std::string(libbrdf::model_name(kind)), s.name, variant, "", ""};
+    const Evaluator f = [&model](const ScatterGeometry& g) { return model.evaluate(g); };
+    fill_errors(row, values_on(full_, f), ref.values);
+    row.evals_per_s = evals_per_second(full_, f, min_seconds_);
+    row.speed_ratio = row.evals_per_s / ref.evals_per_s;
+    rows_.push_back(row);
+  }
+
+  void add_lut_row(ModelKind kind, const BenchSurface& s, LutLayout layout, const std::array<int, 3>& shape) {
+    const bool slice = layout == LutLayout::slice;
+    Reference& ref = reference(kind, s, slice);
+    libbrdf::BakeRequest request;
+    request.model = kind;
+    request.channels = {gold(s)};
+    request.layout = layout;
+    request.resolution = shape;
+    request.light = kSunDirection;
+    request.view = kCameraDirection;
+    request.error_samples = 2000;  // the bench measures against the reference itself
+    const libbrdf::Lut lut = libbrdf::bake(request);
+    const QuerySet& q = slice ? slice_ : full_;
+    Row row{"lut", std::string(libbrdf::model_name(kind)), s.name, "table of the default model",
+            std::string(libbrdf::layout_name(layout)), shape_text(lut)};
+    row.nodes = double(lut.nodes_per_channel());
+    const Evaluator f = [&lut](const ScatterGeometry& g) { return lut.lookup(0, g); };
+    fill_errors(row, values_on(q, f), ref.values);
+    row.evals_per_s = evals_per_second(q, f, min_seconds_);
+    row.speed_ratio = row.evals_per_s / ref.evals_per_s;
+    rows_.push_back(row);
+  }
+
+  bool quick_;
+  double min_seconds_;
+  QuerySet full_, slice_;
+  std::map<ModelKind, Reference> references_, slice_references_;
+  std::vector<Row> rows_;
+};
+
+void write_csv(const std::vector<Row>& rows, const std::string& path) {
+  const std::string temporary = path + ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::trunc);
+    out << "kind,model,surface,variant,layout,shape,nodes,evals_per_s,speed_ratio,max_rel_error,rms_rel_error,floor,samples\n";
+    char buffer[512];
+    for (const Row& r : rows) {
+      std::snprintf(buffer, sizeof buffer, "%s,%s,%s,%s,%s,%s,%.0f,%.4g,%.4g,%.3g,%.3g,%.3g,%d\n", r.kind.c_str(),
+                    r.model.c_str(), r.surface.c_str(), r.variant.c_str(), r.layout.c_str(), r.shape.c_str(), r.nodes,
+                    r.evals_per_s, r.speed_ratio, r.max_rel_error, r.rms_rel_error, r.floor, r.samples);
+      out << buffer;
+    }
+    out.close();
+    if (!out) {
+      std::filesystem::remove(temporary);
+      throw std::runtime_error(path + ": write failed");
+    }
+  }
+  std::filesystem::rename(temporary, path);
+}
+
+std::string plot_script() {
+  if (const char* root = std::getenv("LIBBRDF_ROOT")) return std::string(root) + "/tools/plot_bench.py";
+#ifdef LIBBRDF_SOURCE_DIR
+  return std::string(LIBBRDF_SOURCE_DIR) + "/tools/plot_bench.py";
+#else
+  return "tools/plot_bench.py";
+#endif
+}
+
+// Runs /usr/bin/python3 SCRIPT CSV PNG (no shell); returns its exit status.
+int run_plot(const std::string& csv, const std::string& png) {
+  const std::string python = "/usr/bin/python3", script = plot_script();
+  if (!std::filesystem::exists(script)) throw std::runtime_error("bench: plot script not found: " + script + " (set LIBBRDF_ROOT)");
+  std::vector<std::string> args{python, script, csv, png};
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  if (posix_spawn(&pid, python.c_str(), nullptr, nullptr, argv.data(), environ) != 0)
+    throw std::runtime_error("bench: cannot run " + python);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 1;
+}
+
+int run_bench(const BenchOptions& o) {
+  std::error_code ec;
+  std::filesystem::create_directories(o.out, ec);
+  if (!std::filesystem::is_directory(o.out)) throw libbrdf::InvalidArgument("out", "cannot create directory '" + o.out + "'");
+  const auto start = std::chrono::steady_clock::now();
+  Bench bench(o.quick);
+  for (const BenchSurface& s : kSurfaces) {
+    std::cerr << "bench: " << s.name << " surface\n";
+    bench.run_surface(s);
+  }
+  const std::string csv = o.out + "/bench.csv", png = o.out + "/bench.png";
+  write_csv(bench.rows(), csv);
+  std::printf("%-9s %-13s %-12s %-38s %-13s %12s %9s %10s\n", "kind", "model", "surface", "variant", "table",
+              "evals/s", "vs ref", "max err");
+  for (const Row& r : bench.rows())
+    std::printf("%-9s %-13s %-12s %-38s %-13s %12.4g %9.3g %10.3g\n", r.kind.c_str(), r.model.c_str(), r.surface.c_str(),
+                r.variant.c_str(), (r.layout.empty() ? std::string("-") : r.layout + " " + r.shape).c_str(), r.evals_per_s,
+                r.speed_ratio, r.max_rel_error);
+  if (run_plot(csv, png) != 0) throw std::runtime_error("bench: tools/plot_bench.py failed (bench.csv is written)");
+  std::printf("wrote %s and %s in %.1f s\n", csv.c_str(), png.c_str(),
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  return 0;
+}
+
+}  // namespace
+
+void register_bench(CLI::App& app, ActionTable& actions) {
+  auto options = std::make_shared<BenchOptions>();
+  CLI::App* command = app.add_subcommand("bench", "Speed against error of every model, fast path and table (CSV + plot)");
+  command->add_option("--out", options->out, "Output directory for bench.csv and bench.png (default out/bench)");
+  command->add_flag("--quick", options->quick, "Fewer queries, smaller tables, shorter timings (well under a minute)");
+  actions.emplace_back(command, [options]() { return run_bench(*options); });
+}
+
+}  // namespace brdf_cli

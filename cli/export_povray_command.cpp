@@ -1,0 +1,71 @@
+// `brdf export povray`: a POV-Ray 3.7 include with NAME_Exact (exact radiance for one sun and a
+// distant camera, as emission) and NAME_Fit (a fitted native finish). See exporters/povray.h.
+//   brdf export povray --model NAME [surface params] [--wavelength R,G,B] --light-dir X,Y,Z
+//                      --view-dir X,Y,Z --name NAME [--resolution N] -o DIR
+#include <iostream>
+#include <memory>
+
+#include "commands.h"
+#include "exporters/povray.h"
+#include "libbrdf/error.h"
+#include "model_options.h"
+
+namespace brdf_cli {
+
+namespace {
+struct ExportPovrayOptions {
+  ModelOptions model;
+  std::string light_dir, view_dir, name, output;
+  int resolution = libbrdf::povray::kMaxMapEntries;
+};
+
+libbrdf::Direction direction(const std::string& text, const char* parameter) {
+  const std::vector<double> v = parse_number_list(text, 3, parameter);
+  return {v[0], v[1], v[2]};
+}
+}  // namespace
+
+void register_export_povray(CLI::App& app, ActionTable& actions) {
+  auto options = std::make_shared<ExportPovrayOptions>();
+  CLI::App* command = export_parent(app).add_subcommand(
+      "povray",
+      "POV-Ray 3.7 include: NAME_Exact (exact radiance for one sun, distant camera) and NAME_Fit (native finish)");
+  add_model_options(*command, options->model);
+  command->add_option("--light-dir", options->light_dir,
+                      "POV-Ray world vector X,Y,Z from the surface towards the (parallel) light")->required();
+  command->add_option("--view-dir", options->view_dir,
+                      "POV-Ray world vector X,Y,Z from the surface towards the (distant) camera")->required();
+  command->add_option("--name", options->name, "Identifier prefix and file name: writes DIR/NAME.inc")->required();
+  command->add_option("--resolution", options->resolution,
+                      "Map entries per table axis, 8..256 (POV-Ray 3.7's limit; default 256)");
+  command->add_option("-o,--output", options->output, "Output directory (created if missing)")->required();
+  actions.emplace_back(command, [options]() {
+    libbrdf::povray::validate_include_name(options->name);
+    const std::vector<double> wavelengths = channel_wavelengths(options->model, {0.65, 0.55, 0.45});
+    if (wavelengths.size() != 3)
+      throw libbrdf::InvalidArgument("wavelength", "POV-Ray colours need exactly 3 wavelengths R,G,B (got " +
+                                                       std::to_string(wavelengths.size()) + ")");
+    libbrdf::povray::SliceRequest request;
+    request.model = parse_model_kind(options->model);
+    for (double w : wavelengths) request.channels.push_back(model_parameters(options->model, w));
+    request.light = direction(options->light_dir, "light-dir");
+    request.view = direction(options->view_dir, "view-dir");
+    request.entries = options->resolution;
+    const libbrdf::povray::ExportResult result =
+        libbrdf::povray::export_povray(request, options->name, options->output);
+    const auto& e = result.slice.error;
+    std::cout << "wrote " << result.include_path << "\n"
+              << "  exact table: " << result.slice.half_nodes.size() << " x " << result.slice.light_nodes.size()
+              << " nodes (N.H x N.L), max error ";
+    if (e.samples > 0) std::cout << 100.0 * e.max_relative << "%, rms " << 100.0 * e.rms_relative << "%";
+    else std::cout << "n/a";
+    std::cout << " (theta <= " << e.theta_limit_deg << " deg; up to the horizon " << 100.0 * e.max_relative_all
+              << "%)\n"
+              << "  fit: relative L2 error " << 100.0 * result.fit.relative_l2_error << "%, peak fit/exact "
+              << result.fit.peak_ratio[0] << ", " << result.fit.peak_ratio[1] << ", " << result.fit.peak_ratio[2]
+              << "\n";
+    return 0;
+  });
+}
+
+}  // namespace brdf_cli

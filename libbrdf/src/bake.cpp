@@ -1,0 +1,349 @@
+// bake(): evaluates a model on a layout's node grid (oneTBB), its R_spec / K side tables, and the
+// table's error at random off-grid points; --target-error grows the grid geometrically.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <random>
+#include <sstream>
+
+#include "libbrdf/error.h"
+#include "libbrdf/lut.h"
+#include "libbrdf/version.h"
+#include "lut_internal.h"
+
+namespace libbrdf {
+namespace {
+
+std::string shape_text(const std::array<int, 3>& shape, LutLayout layout) {
+  std::string text = std::to_string(shape[0]) + "x" + std::to_string(shape[1]);
+  if (layout != LutLayout::slice) text += "x" + std::to_string(shape[2]);
+  return text;
+}
+
+void require_direction(const char* parameter, const Direction& d) {
+  const double length2 = d.x * d.x + d.y * d.y + d.z * d.z;
+  if (!(std::isfinite(length2) && length2 > 0.0))
+    throw InvalidArgument(parameter, "must be a finite nonzero vector X,Y,Z (world space, pointing away from the surface)");
+}
+
+void validate_request(const BakeRequest& r) {
+  if (!is_brdf(r.model))
+    throw InvalidArgument("model", std::string(model_name(r.model)) +
+                                       " is not a BRDF and cannot be baked (one of mbk, mbk-polished, mbk-rough, "
+                                       "mbk-fg, bk, bk-modified, microfacet)");
+  if (r.channels.empty()) throw InvalidArgument("wavelength", "at least one channel (wavelength) is needed");
+  if (r.channels.size() > 64) throw InvalidArgument("wavelength", "at most 64 channels (got " + std::to_string(r.channels.size()) + ")");
+  if (r.resolution && r.target_error)
+    throw InvalidArgument("target-error", "give either a resolution or a target error, not both");
+  if (r.target_error) {
+    if (!(std::isfinite(*r.target_error) && *r.target_error > 0.0 && *r.target_error < 1.0))
+      throw InvalidArgument("target-error", "must be a relative error in (0, 1)");
+    if (r.layout == LutLayout::merl)
+      throw InvalidArgument("target-error", "not available for layout merl (its grid is fixed at 90x90x180)");
+  }
+  if (r.resolution) {
+    const auto& s = *r.resolution;
+    const bool slice = r.layout == LutLayout::slice;
+    for (int k = 0; k < (slice ? 2 : 3); ++k)
+      if (s[k] < 2 || s[k] > 4096)
+        throw InvalidArgument("resolution", "nodes per axis must be in [2, 4096] (got " + shape_text(s, r.layout) + ")");
+    if (r.layout == LutLayout::merl && s != kMerlShape)
+      throw InvalidArgument("resolution", "layout merl is fixed at 90x90x180 (got " + shape_text(s, r.layout) + ")");
+    const double nodes = double(s[0]) * s[1] * (slice ? 1 : s[2]);
+    if (nodes * double(r.channels.size()) > double(std::size_t{1} << 28))
+      throw InvalidArgument("resolution", "table too large: " + shape_text(s, r.layout) + " x " +
+                                              std::to_string(r.channels.size()) + " channels exceeds 2^28 values");
+  }
+  if (r.layout == LutLayout::slice) {
+    require_direction("light-dir", r.light);
+    require_direction("view-dir", r.view);
+    if (!(radians_to_degrees(slice_theta_d(r.light, r.view)) < kHorizonThetaLimitDeg))
+      throw InvalidArgument("view-dir", "light and view directions must be less than " +
+                                            std::to_string(2 * kHorizonThetaLimitDeg) + " deg apart");
+  }
+  if (!(r.error_floor_fraction >= 0.0 && r.error_floor_fraction < 1.0))
+    throw InvalidArgument("error-floor", "fraction of the table maximum must be in [0, 1)");
+  if (r.error_samples < 1) throw InvalidArgument("error-samples", "must be >= 1");
+  if (!(r.error_theta_limit_deg > 0.0 && r.error_theta_limit_deg <= 90.0))
+    throw InvalidArgument("error-theta-limit", "must be in (0, 90] degrees");
+}
+
+void check_cancel(const BakeRequest& r) {
+  if (r.cancel && r.cancel->load(std::memory_order_relaxed)) throw BakeCancelled();
+}
+
+[[noreturn]] void non_finite(const ScatterAngles& a, int channel, double value) {
+  std::ostringstream out;
+  out.precision(17);
+  out << "bake: the model gave a value that is not a finite float (" << value << ") at theta_i="
+      << radians_to_degrees(a.theta_i) << ", theta_s=" << radians_to_degrees(a.theta_s)
+      << ", phi_s=" << radians_to_degrees(a.phi_s) << " deg, channel " << channel;
+  throw std::runtime_error(out.str());
+}
+
+// Node values of every channel, multi-threaded, in ~100 chunks of rows so that the calling thread
+// reports progress and honours the cancel flag between chunks (and the workers inside them).
+// A row is the phi_d axis (the last axis; the second for the slice). Along phi_d the ASF of eq. 11
+// is constant, since g and c depend only on cos ti + cos ts = 2 cos td cos th and
+// eta_r = 2 cos td sin th: it is computed once per row (Model::asf_at) and passed to
+// Model::evaluate(geo, asf) at every node of the row -- also at nodes whose directions the
+// horizon rule limits (lut.h: they hold the ASF of their own (theta_h, theta_d)).
+void bake_nodes(const BakeRequest& r, const std::vector<Model>& models, Lut& lut) {
+  const int channels = lut.channels();
+  const std::size_t nodes = lut.nodes_per_channel();
+  const bool slice = lut.layout == LutLayout::slice;
+  const int row_length = slice ? lut.shape[1] : lut.shape[2];
+  const int rows = static_cast<int>(nodes / row_length);
+  const std::array<double, 3> span = detail::lut_axis_spans(lut.layout, lut.shape);
+  lut.values.assign(nodes * channels, 0.0f);
+  const int chunks = std::min(rows, 100);
+  for (int chunk = 0; chunk < chunks; ++chunk) {
+    check_cancel(r);
+    const int begin = static_cast<int>(static_cast<long long>(rows) * chunk / chunks);
+    const int end = static_cast<int>(static_cast<long long>(rows) * (chunk + 1) / chunks);
+    tbb::parallel_for(tbb::blocked_range<int>(begin, end, 1), [&](const tbb::blocked_range<int>& range) {
+      std::vector<double> row_asf(channels);
+      for (int row = range.begin(); row != range.end(); ++row) {
+        if (r.cancel && r.cancel->load(std::memory_order_relaxed)) return;
+        const int i0 = slice ? row : row / lut.shape[1];
+        const int i1 = slice ? 0 : row % lut.shape[1];
+        // The row's ASF at phi_d = pi/2, where ti = ts = acos(cos td cos th): a real geometry for
+        // every theta_h, theta_d < 90 deg (rows at 90 deg have none and are evaluated node by node).
+        bool row_feasible = false;
+        const ScatterAngles middle = slice ? detail::angles_at_index(lut.layout, lut.shape, i0, 0.5 * span[1], 0, lut.light, lut.view, &row_feasible)
+                                           : detail::angles_at_index(lut.layout, lut.shape, i0, i1, 0.5 * span[2], lut.light, lut.view, &row_feasible);
+        if (row_feasible) {
+          const ScatterGeometry middle_geo = make_scatter_geometry(middle);
+          for (int c = 0; c < channels; ++c) row_asf[c] = models[c].uses_asf() ? models[c].asf_at(middle_geo) : 0.0;
+        }
+        for (int k = 0; k < row_length; ++k) {
+          const ScatterAngles angles = lut_node_angles(lut.layout, lut.shape, i0, slice ? k : i1, slice ? 0 : k, lut.light, lut.view);
+          const ScatterGeometry geo = make_scatter_geometry(angles);
+          const std::size_t index = static_cast<std::size_t>(row) * row_length + k;
+          for (int c = 0; c < channels; ++c) {
+            const double value = row_feasible && models[c].uses_asf() ? models[c].evaluate(geo, row_asf[c]) : models[c].evaluate(geo);
+            if (!(std::abs(value) <= double(FLT_MAX))) non_finite(angles, c, value);
+            lut.values[c * nodes + index] = static_cast<float>(value);
+          }
+        }
+      }
+    });
+    if (r.progress) r.progress(double(chunk + 1) / chunks);
+  }
+  check_cancel(r);
+}
+
+// R_spec(theta_i) and K(theta_i) on the uniform theta_i grid, and their largest relative
+// interpolation error at random theta_i (values below 1e-3 of the table's max ignored).
+double bake_side_tables(const std::vector<Model>& models, Lut& lut, std::uint64_t seed) {
+  const int n = kThetaINodes;
+  const int channels = lut.channels();
+  lut.specular_reflectance.assign(channels, std::vector<float>(n));
+  lut.renormalization.assign(channels, std::vector<float>(n));
+  tbb::parallel_for(0, channels, [&](int c) {
+    for (int m = 0; m < n; ++m) {
+      const double theta_i = 0.5 * kPi * m / (n - 1);
+      lut.specular_reflectance[c][m] = static_cast<float>(models[c].specular_reflectance(theta_i));
+      lut.renormalization[c][m] = static_cast<float>(models[c].renormalization(theta_i));
+    }
+  });
+  std::mt19937_64 rng(seed ^ 0x5DEECE66DULL);
+  std::uniform_real_distribution<double> uniform(0.0, 0.5 * kPi);
+  double worst = 0.0;
+  for (int c = 0; c < channels; ++c) {
+    const double spec_max = *std::max_element(lut.specular_reflectance[c].begin(), lut.specular_reflectance[c].end());
+    for (int k = 0; k < 2000; ++k) {
+      const double theta_i = uniform(rng);
+      const double spec = models[c].specular_reflectance(theta_i), k_value = models[c].renormalization(theta_i);
+      if (spec > 1e-3 * double(spec_max)) worst = std::max(worst, std::abs(lut.specular_at(c, theta_i) - spec) / spec);
+      worst = std::max(worst, std::abs(lut.renormalization_at(c, theta_i) - k_value) / k_value);
+    }
+  }
+  return worst;
+}
+
+Lut bake_table(const BakeRequest& r, const std::vector<Model>& models, const std::array<int, 3>& shape) {
+  Lut lut;
+  lut.layout = r.layout;
+  lut.shape = shape;
+  if (lut.layout == LutLayout::slice) lut.shape[2] = 1;
+  for (const ModelParameters& p : r.channels) lut.wavelengths_um.push_back(p.wavelength_um);
+  if (lut.layout == LutLayout::slice) {
+    lut.light = r.light;
+    lut.view = r.view;
+  }
+  bake_nodes(r, models, lut);
+  const double side_error = bake_side_tables(models, lut, r.seed);
+  lut.error = measure_lut_error(lut, models, r.error_samples, r.error_floor_fraction, r.seed, r.error_theta_limit_deg);
+  check_cancel(r);
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.17g", side_error);
+  lut.attributes["side_tables_max_relative_error"] = buffer;
+  std::snprintf(buffer, sizeof buffer, "%.17g", r.error_floor_fraction);
+  lut.attributes["error_floor_fraction"] = buffer;
+  lut.attributes["model"] = std::string(model_name(r.model));
+  lut.attributes["parameters"] = detail::parameters_json(r.model, r.channels);
+  lut.attributes["error_sampling"] =
+      "uniform in the table's index space (off the nodes), real geometries only (both directions above the horizon); "
+      "relative error |lut - model| / model over values >= error_floor (error_floor_fraction x the largest node "
+      "value); max/rms over theta_i, theta_s <= error_theta_limit_deg, max_relative_error_all up to the horizon; "
+      "seed " + std::to_string(r.seed);
+  return lut;
+}
+
+std::array<int, 3> grown(const std::array<int, 3>& shape, LutLayout layout) {
+  std::array<int, 3> next = shape;
+  for (int k = 0; k < (layout == LutLayout::slice ? 2 : 3); ++k)
+    next[k] = static_cast<int>(std::ceil(shape[k] * kTargetGrowthFactor));
+  return next;
+}
+
+std::size_t node_count(const std::array<int, 3>& s, LutLayout layout) {
+  return std::size_t(s[0]) * std::size_t(s[1]) * std::size_t(layout == LutLayout::slice ? 1 : s[2]);
+}
+
+}  // namespace
+
+Lut bake(const BakeRequest& r) {
+  validate_request(r);
+  std::vector<Model> models;
+  models.reserve(r.channels.size());
+  for (const ModelParameters& p : r.channels) {
+    check_cancel(r);
+    models.emplace_back(r.model, p);  // validates the parameters; builds (or reuses) the K table
+  }
+  if (!r.target_error) {
+    Lut lut = bake_table(r, models, r.resolution ? *r.resolution : default_resolution(r.layout));
+    detail::check_lut_consistency(lut, "bake");
+    return lut;
+  }
+  std::array<int, 3> shape = target_error_start_resolution(r.layout);
+  std::string trials;
+  char buffer[64];
+  for (;;) {
+    Lut lut = bake_table(r, models, shape);
+    if (r.trial_done) r.trial_done(lut.shape, lut.error);
+    std::snprintf(buffer, sizeof buffer, "%.3g", lut.error.max_relative);
+    trials += (trials.empty() ? "" : "; ") + shape_text(lut.shape, r.layout) + ": " + buffer;
+    if (lut.error.max_relative <= *r.target_error) {
+      std::snprintf(buffer, sizeof buffer, "%.17g", *r.target_error);
+      lut.attributes["target_error"] = buffer;
+      lut.attributes["target_error_trials"] = trials;
+      detail::check_lut_consistency(lut, "bake");
+      return lut;
+    }
+    const std::array<int, 3> next = grown(shape, r.layout);
+    if (node_count(next, r.layout) > kMaxTargetNodes) {
+      std::snprintf(buffer, sizeof buffer, "%.3g", lut.error.max_relative);
+      throw InvalidArgument("target-error", "not reached: the largest table tried (" + shape_text(lut.shape, r.layout) +
+                                                ") has a measured max relative error of " + buffer);
+    }
+    shape = next;
+  }
+}
+
+std::vector<ScatterAngles> random_table_geometries(LutLayout layout, int count, double theta_limit_deg,
+                                                   std::uint64_t seed, const Direction& light, const Direction& view) {
+  if (count < 0) throw InvalidArgument("count", "must be >= 0");
+  if (!(theta_limit_deg > 0.0 && theta_limit_deg <= 90.0)) throw InvalidArgument("theta limit", "must be in (0, 90] degrees");
+  const double limit = degrees_to_radians(theta_limit_deg);
+  // A two-node grid per axis: index coordinates in [0, 1] are the axis fractions.
+  const std::array<int, 3> unit_shape = layout == LutLayout::slice ? std::array<int, 3>{2, 2, 1} : std::array<int, 3>{2, 2, 2};
+  const LutLayout grid = layout == LutLayout::merl ? LutLayout::rusinkiewicz : layout;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  std::vector<ScatterAngles> out;
+  out.reserve(count);
+  for (long long attempt = 0; static_cast<int>(out.size()) < count; ++attempt) {
+    if (attempt > 1000LL * (count + 1)) throw InvalidArgument("theta limit", "no geometry of this table lies inside the limit");
+    const double x0 = uniform(rng), x1 = uniform(rng), x2 = uniform(rng);
+    bool feasible = false;
+    const ScatterAngles a = detail::angles_at_index(grid, unit_shape, x0, x1, grid == LutLayout::slice ? 0.0 : x2, light, view, &feasible);
+    if (feasible && a.theta_i <= limit && a.theta_s <= limit) out.push_back(a);
+  }
+  return out;
+}
+
+LutError measure_lut_error(const Lut& lut, const std::vector<Model>& models, int samples, double floor_fraction,
+                           std::uint64_t seed, double theta_limit_deg) {
+  if (static_cast<int>(models.size()) != lut.channels())
+    throw InvalidArgument("models", "one model per channel is needed (" + std::to_string(lut.channels()) + ")");
+  if (samples < 1) throw InvalidArgument("error-samples", "must be >= 1");
+  if (!(theta_limit_deg > 0.0 && theta_limit_deg <= 90.0))
+    throw InvalidArgument("error-theta-limit", "must be in (0, 90] degrees");
+  const double theta_limit = degrees_to_radians(theta_limit_deg);
+  auto inside = [theta_limit](const ScatterAngles& a) { return a.theta_i <= theta_limit && a.theta_s <= theta_limit; };
+  const int channels = lut.channels();
+  const std::size_t nodes = lut.nodes_per_channel();
+  const bool slice = lut.layout == LutLayout::slice;
+  const int row_length = slice ? lut.shape[1] : lut.shape[2];
+
+  // The floor: floor_fraction x the largest node value among the nodes inside the measured
+  // domain (nodes near or below the horizon may hold much larger values for models that
+  // diverge there, e.g. bk's F_bk^2; they must not raise the floor over the whole table).
+  std::vector<float> row_max(nodes / row_length, 0.0f);
+  tbb::parallel_for(0, static_cast<int>(row_max.size()), [&](int row) {
+    for (int k = 0; k < row_length; ++k) {
+      const int i0 = slice ? row : row / lut.shape[1], i1 = slice ? k : row % lut.shape[1], i2 = slice ? 0 : k;
+      bool feasible = false;
+      const ScatterAngles a = detail::angles_at_index(lut.layout, lut.shape, i0, i1, i2, lut.light, lut.view, &feasible);
+      if (!feasible || !inside(a)) continue;
+      const std::size_t index = static_cast<std::size_t>(row) * row_length + k;
+      for (int c = 0; c < channels; ++c) row_max[row] = std::max(row_max[row], lut.values[c * nodes + index]);
+    }
+  });
+  LutError error;
+  error.floor = floor_fraction * double(*std::max_element(row_max.begin(), row_max.end()));
+  error.theta_limit_deg = theta_limit_deg;
+
+  // Batches of points drawn sequentially (reproducible from the seed) and evaluated in parallel,
+  // until `samples` values above the floor inside the domain are compared (or 50 x samples
+  // points were drawn: lobes that fill a small part of the table get a fair share of samples).
+  std::mt19937_64 rng(seed);
+  const std::array<double, 3> span = detail::lut_axis_spans(lut.layout, lut.shape);
+  std::array<std::uniform_real_distribution<double>, 3> axis{
+      std::uniform_real_distribution<double>(0.0, span[0]), std::uniform_real_distribution<double>(0.0, span[1]),
+      std::uniform_real_distribution<double>(0.0, span[2])};
+  const std::size_t batch = std::max<std::size_t>(1000, static_cast<std::size_t>(samples / channels));
+  double sum_squares = 0.0;
+  for (std::size_t drawn = 0; error.samples < samples && drawn < 50 * static_cast<std::size_t>(samples);) {
+    std::vector<ScatterAngles> points;
+    points.reserve(batch);
+    while (points.size() < batch) {
+      const double x0 = axis[0](rng), x1 = axis[1](rng), x2 = slice ? 0.0 : axis[2](rng);
+      bool feasible = false;
+      const ScatterAngles a = detail::angles_at_index(lut.layout, lut.shape, x0, x1, x2, lut.light, lut.view, &feasible);
+      ++drawn;
+      if (feasible) points.push_back(a);
+    }
+    std::vector<double> relative(points.size() * channels, -1.0);  // -1: below the floor
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size()), [&](const tbb::blocked_range<std::size_t>& range) {
+      for (std::size_t p = range.begin(); p != range.end(); ++p) {
+        const ScatterGeometry geo = make_scatter_geometry(points[p]);
+        for (int c = 0; c < channels; ++c) {
+          const double model = models[c].evaluate(geo);
+          if (!(model >= error.floor) || model <= 0.0) continue;
+          relative[p * channels + c] = std::abs(lut.lookup(c, geo) - model) / model;
+        }
+      }
+    });
+    for (std::size_t p = 0; p < points.size() && error.samples < samples; ++p) {
+      for (int c = 0; c < channels; ++c) {
+        const double e = relative[p * channels + c];
+        if (e < 0.0) continue;
+        error.max_relative_all = std::max(error.max_relative_all, e);
+        if (!inside(points[p])) continue;
+        error.max_relative = std::max(error.max_relative, e);
+        sum_squares += e * e;
+        ++error.samples;
+      }
+    }
+  }
+  error.rms_relative = error.samples ? std::sqrt(sum_squares / error.samples) : 0.0;
+  return error;
+}
+
+}  // namespace libbrdf

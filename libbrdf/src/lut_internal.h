@@ -1,0 +1,52 @@
+#pragma once
+// Internal helpers shared by the LUT sources (lut.cpp, bake.cpp, lut_exr.cpp, merl_binary.cpp,
+// lut_metadata.cpp). Not installed.
+#include <array>
+#include <functional>
+#include <map>
+#include <string>
+
+#include "libbrdf/lut.h"
+
+namespace libbrdf::detail {
+
+// Index-space length of each axis: node i sits at fraction i / span of the axis range.
+// rusinkiewicz, slice: span = N - 1 (nodes on both range ends); merl: span = N (no node on the
+// upper end). Slice has span 1 on its unused third axis.
+std::array<double, 3> lut_axis_spans(LutLayout layout, const std::array<int, 3>& shape);
+
+Direction normalized(const Direction& d);
+
+// Angles at a (possibly fractional) index position; `feasible` = both directions strictly above
+// the horizon. No horizon limit applied.
+ScatterAngles angles_at_index(LutLayout layout, const std::array<int, 3>& shape, double x0, double x1, double x2,
+                              const Direction& light, const Direction& view, bool* feasible);
+
+// Polar angles limited to kHorizonThetaLimitDeg (the fill rule of lut.h for nodes at or below
+// the horizon).
+ScatterAngles limit_to_horizon(ScatterAngles angles);
+
+// Checks that a table is self-consistent (shape, sizes, finite values); throws
+// LutFileError("<label>: <problem>").
+void check_lut_consistency(const Lut& lut, const std::string& label);
+
+// Text written into file headers: the axis mapping and the texel convention of a layout.
+std::string axis_mapping_text(const Lut& lut);
+std::string texel_convention_text(LutLayout layout);
+
+// Metadata common to every file format (keys without prefix), from the table's fields plus its
+// `attributes`; and back: restores layout, wavelengths, shape, directions and error from it.
+std::map<std::string, std::string> lut_metadata(const Lut& lut);
+// Throws LutFileError("<label>: <problem>").
+void restore_from_metadata(Lut& lut, const std::map<std::string, std::string>& metadata, const std::string& label);
+
+// Writes a file through `write_to(temporary_path)` beside `path`, then renames it onto `path`.
+// A throw from write_to (or a failed rename) removes the temporary: no partial file is left.
+// `suffix` is appended to the temporary's name (e.g. ".exr", so that writers pick the format).
+void write_atomically(const std::string& path, const std::string& suffix,
+                      const std::function<void(const std::string& temporary_path)>& write_to);
+
+// Model parameters as JSON text (for file headers) and a one-line description.
+std::string parameters_json(ModelKind kind, const std::vector<ModelParameters>& channels);
+
+}  // namespace libbrdf::detail

@@ -1,0 +1,252 @@
+// Metadata of baked tables (what every file header carries), consistency checks, and the
+// temporary-file-then-rename write used by every writer.
+#include <unistd.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <system_error>
+
+#include "libbrdf/error.h"
+#include "libbrdf/version.h"
+#include "lut_internal.h"
+
+namespace libbrdf::detail {
+namespace {
+
+// Shortest of %.15g / %.17g that reads back exactly.
+std::string number_text(double value) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.15g", value);
+  if (std::strtod(buffer, nullptr) != value) std::snprintf(buffer, sizeof buffer, "%.17g", value);
+  return buffer;
+}
+
+std::string list_text(const std::vector<double>& values) {
+  std::string out;
+  for (std::size_t i = 0; i < values.size(); ++i) out += (i ? "," : "") + number_text(values[i]);
+  return out;
+}
+
+// Parses "a,b,c" into finite numbers; empty optional on any malformed item.
+bool parse_list(const std::string& text, std::vector<double>& out) {
+  out.clear();
+  std::stringstream stream(text);
+  std::string item;
+  while (std::getline(stream, item, ',')) {
+    char* end = nullptr;
+    const double v = std::strtod(item.c_str(), &end);
+    if (end == item.c_str() || *end != '\0' || !std::isfinite(v)) return false;
+    out.push_back(v);
+  }
+  return !out.empty();
+}
+
+const char* g_term_name(GeometricTerm term) {
+  switch (term) {
+    case GeometricTerm::none: return "none";
+    case GeometricTerm::smith: return "smith";
+    case GeometricTerm::vgroove: return "vgroove";
+  }
+  return "?";
+}
+
+const char* mapping_name(SigmaGMapping mapping) {
+  switch (mapping) {
+    case SigmaGMapping::automatic: return "auto";
+    case SigmaGMapping::rough: return "rough";
+    case SigmaGMapping::polished: return "polished";
+  }
+  return "?";
+}
+
+}  // namespace
+
+std::string axis_mapping_text(const Lut& lut) {
+  const auto& s = lut.shape;
+  std::ostringstream out;
+  switch (lut.layout) {
+    case LutLayout::rusinkiewicz:
+      out << "axis0 theta_h = (pi/2) (i/" << s[0] - 1 << ")^2, i = 0.." << s[0] - 1 << "; axis1 theta_d = (pi/2) j/"
+          << s[1] - 1 << "; axis2 phi_d = pi k/" << s[2] - 1
+          << " (azimuth of the incident direction in the half-vector frame, folded by phi_d -> -phi_d); radians";
+      break;
+    case LutLayout::merl:
+      out << "axis0 theta_h = (pi/2) (i/90)^2, i = 0..89; axis1 theta_d = (pi/2) j/90; axis2 phi_d = pi k/180 "
+             "(MERL: Matusik et al. 2003); radians";
+      break;
+    case LutLayout::slice: {
+      const Direction l = normalized(lut.light), v = normalized(lut.view);
+      out << "axis0 theta_h = (pi/2) (i/" << s[0] - 1 << ")^2; axis1 phi_d = pi j/" << s[1] - 1
+          << "; theta_d fixed = " << number_text(slice_theta_d(lut.light, lut.view))
+          << " (cos 2 theta_d = L.V, eq. 5); world light L = (" << number_text(l.x) << "," << number_text(l.y) << ","
+          << number_text(l.z) << "), view V = (" << number_text(v.x) << "," << number_text(v.y) << "," << number_text(v.z)
+          << "); from a normal N: cos theta_h = (N.L + N.V) / (2 cos theta_d), cos phi_d = (N.V - N.L) / (2 sin theta_h "
+             "sin theta_d); radians";
+      break;
+    }
+  }
+  out << ". Side tables: R_spec(theta_i) and K(theta_i) at theta_i = (pi/2) m/" << kThetaINodes - 1 << ".";
+  return out.str();
+}
+
+std::string texel_convention_text(LutLayout layout) {
+  std::string text =
+      "node grid: value [i] is the BRDF (1/sr) AT the node angle above (not a cell average, no half-texel offset: "
+      "index = angle mapped to [0, span]); interpolation ";
+  text += layout == LutLayout::slice ? "bilinear" : "trilinear";
+  text += layout == LutLayout::merl ? "; beyond the last node (theta_h, theta_d near 90 deg, phi_d near 180 deg) the "
+                                      "last node's value holds"
+                                    : "; first and last nodes on the range ends";
+  text += "; nodes with a direction at or below the horizon hold the model at polar angle " +
+          number_text(kHorizonThetaLimitDeg) + " deg";
+  return text;
+}
+
+void check_lut_consistency(const Lut& lut, const std::string& label) {
+  auto fail = [&](const std::string& what) { throw LutFileError(label + ": " + what); };
+  const int minimum = 2;
+  const bool is_slice = lut.layout == LutLayout::slice;
+  if (lut.shape[0] < minimum || lut.shape[1] < minimum || (is_slice ? lut.shape[2] != 1 : lut.shape[2] < minimum))
+    fail("invalid shape " + std::to_string(lut.shape[0]) + "x" + std::to_string(lut.shape[1]) + "x" +
+         std::to_string(lut.shape[2]) + " for layout " + std::string(layout_name(lut.layout)));
+  if (lut.layout == LutLayout::merl && lut.shape != kMerlShape) fail("layout merl needs shape 90x90x180");
+  if (lut.channels() < 1) fail("no channels");
+  for (double w : lut.wavelengths_um)
+    if (!(std::isfinite(w) && w > 0.0)) fail("invalid wavelength " + number_text(w));
+  if (lut.nodes_per_channel() > (std::size_t{1} << 31)) fail("table too large");
+  if (lut.values.size() != lut.nodes_per_channel() * lut.channels()) fail("value count does not match the shape");
+  for (float v : lut.values)
+    if (!std::isfinite(v)) fail("non-finite table value");
+  for (const auto* side : {&lut.specular_reflectance, &lut.renormalization}) {
+    if (static_cast<int>(side->size()) != lut.channels()) fail("R_spec/K tables missing for some channels");
+    for (const auto& table : *side) {
+      if (table.size() < 2) fail("R_spec/K table too short");
+      for (float v : table)
+        if (!std::isfinite(v)) fail("non-finite R_spec/K value");
+    }
+  }
+  if (is_slice) {
+    for (const Direction* d : {&lut.light, &lut.view}) {
+      const double length2 = d->x * d->x + d->y * d->y + d->z * d->z;
+      if (!(std::isfinite(length2) && length2 > 0.0)) fail("slice light/view direction is not a finite nonzero vector");
+    }
+  }
+}
+
+std::map<std::string, std::string> lut_metadata(const Lut& lut) {
+  std::map<std::string, std::string> m = lut.attributes;
+  m["format"] = "libbrdf-lut";
+  m["format_version"] = "1";
+  m["version"] = kVersion;
+  m["layout"] = std::string(layout_name(lut.layout));
+  m["shape"] = std::to_string(lut.shape[0]) + "," + std::to_string(lut.shape[1]) + "," + std::to_string(lut.shape[2]);
+  m["channels"] = std::to_string(lut.channels());
+  m["wavelengths_um"] = list_text(lut.wavelengths_um);
+  m["axes"] = axis_mapping_text(lut);
+  m["texel_convention"] = texel_convention_text(lut.layout);
+  m["units"] = "BRDF values in 1/sr; R_spec and K dimensionless; wavelengths in um; angles as in axes";
+  m["theta_i_nodes"] = std::to_string(lut.specular_reflectance.empty() ? 0 : lut.specular_reflectance[0].size());
+  m["horizon_theta_limit_deg"] = number_text(kHorizonThetaLimitDeg);
+  m["max_relative_error"] = number_text(lut.error.max_relative);
+  m["rms_relative_error"] = number_text(lut.error.rms_relative);
+  m["error_floor"] = number_text(lut.error.floor);
+  m["error_samples"] = std::to_string(lut.error.samples);
+  m["error_theta_limit_deg"] = number_text(lut.error.theta_limit_deg);
+  m["max_relative_error_all"] = number_text(lut.error.max_relative_all);
+  if (lut.layout == LutLayout::slice) {
+    m["light_dir"] = list_text({lut.light.x, lut.light.y, lut.light.z});
+    m["view_dir"] = list_text({lut.view.x, lut.view.y, lut.view.z});
+  }
+  return m;
+}
+
+void restore_from_metadata(Lut& lut, const std::map<std::string, std::string>& m, const std::string& label) {
+  auto fail = [&](const std::string& what) { throw LutFileError(label + ": " + what); };
+  auto get = [&](const char* key) -> const std::string& {
+    auto it = m.find(key);
+    if (it == m.end()) fail(std::string("missing header attribute '") + key + "'");
+    return it->second;
+  };
+  auto numbers = [&](const char* key, std::size_t count) {
+    std::vector<double> v;
+    if (!parse_list(get(key), v) || (count && v.size() != count))
+      fail(std::string("malformed header attribute '") + key + "' = '" + get(key) + "'");
+    return v;
+  };
+  if (get("format") != "libbrdf-lut") fail("not a libbrdf table (format '" + get("format") + "')");
+  if (get("format_version") != "1") fail("unsupported table format version '" + get("format_version") + "'");
+  try {
+    lut.layout = layout_from_name(get("layout"));
+  } catch (const InvalidArgument&) {
+    fail("unknown layout '" + get("layout") + "'");
+  }
+  const std::vector<double> shape = numbers("shape", 3);
+  for (int k = 0; k < 3; ++k) {
+    if (!(shape[k] >= 1 && shape[k] <= 1e8 && shape[k] == std::floor(shape[k]))) fail("malformed shape '" + get("shape") + "'");
+    lut.shape[k] = static_cast<int>(shape[k]);
+  }
+  lut.wavelengths_um = numbers("wavelengths_um", 0);
+  const std::vector<double> error = {numbers("max_relative_error", 1)[0], numbers("rms_relative_error", 1)[0],
+                                     numbers("error_floor", 1)[0], numbers("error_samples", 1)[0]};
+  lut.error = LutError{error[0], error[1], error[2], static_cast<int>(error[3]), numbers("error_theta_limit_deg", 1)[0],
+                       numbers("max_relative_error_all", 1)[0]};
+  if (lut.layout == LutLayout::slice) {
+    const std::vector<double> l = numbers("light_dir", 3), v = numbers("view_dir", 3);
+    lut.light = {l[0], l[1], l[2]};
+    lut.view = {v[0], v[1], v[2]};
+  }
+  lut.attributes = m;
+}
+
+void write_atomically(const std::string& path, const std::string& suffix,
+                      const std::function<void(const std::string&)>& write_to) {
+  namespace fs = std::filesystem;
+  static std::atomic<unsigned> counter{0};
+  const fs::path target(path);
+  if (target.filename().empty()) throw LutFileError(path + ": not a file name");
+  const fs::path directory = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  std::error_code ec;
+  if (!fs::is_directory(directory, ec)) throw LutFileError(path + ": directory '" + directory.string() + "' does not exist");
+  const fs::path temporary = directory / ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
+                                          std::to_string(counter++) + suffix);
+  try {
+    write_to(temporary.string());
+    fs::rename(temporary, target, ec);
+    if (ec) throw LutFileError(path + ": cannot rename the temporary file into place (" + ec.message() + ")");
+  } catch (...) {
+    fs::remove(temporary, ec);
+    throw;
+  }
+}
+
+std::string parameters_json(ModelKind kind, const std::vector<ModelParameters>& channels) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (const ModelParameters& p : channels) {
+    nlohmann::ordered_json c;
+    c["model"] = std::string(model_name(kind));
+    c["wavelength_um"] = p.wavelength_um;
+    if (p.sigma_s_um) c["sigma_s_um"] = *p.sigma_s_um;
+    if (p.lc_um) c["lc_um"] = *p.lc_um;
+    if (p.index) {
+      c["n"] = p.index->n;
+      c["kappa"] = p.index->kappa;
+    }
+    if (p.sigma_g) c["sigma_g"] = *p.sigma_g;
+    if (p.rho_s) c["rho_s"] = *p.rho_s;
+    c["rho_d"] = p.rho_d;
+    c["g_term"] = g_term_name(p.g_term);
+    c["sigma_g_mapping"] = mapping_name(p.sigma_g_mapping);
+    c["k_mode"] = p.k_mode == KMode::plane ? "plane" : "tis";
+    c["tolerance"] = p.tolerance;
+    c["series_relative_tolerance"] = p.series.relative_tolerance;
+    c["series_method"] = p.series.method == SeriesMethod::every_term ? "every_term" : "strided";
+    out.push_back(c);
+  }
+  return out.dump();
+}
+
+}  // namespace libbrdf::detail

@@ -1,0 +1,36 @@
+// File: object_check.pov
+// Description: One object under the sun and distant camera of a `brdf export povray` include named
+//   Material (Material.inc on the Library_Path), for checks against libbrdf (tests/povray/).
+// Declares (INI or command line, e.g. Declare=Shape=1):
+//   Shape      0 sphere (default), 1 torus, 2 superellipsoid (rounded box), each tilted
+//   Pass       0 Material_Exact (default), 1 normal pass (Brdf_Normal_Texture), 2 Material_Fit under Brdf_Sun
+//   Frequency  normal pass frequency (1 coarse, 64 fine)
+//   Irradiance the sun's irradiance (default 1)
+#version 3.7;
+global_settings { assumed_gamma 1.0 ambient_light 0 max_trace_level 5 }
+
+#ifndef(Shape) #declare Shape = 0; #end
+#ifndef(Pass) #declare Pass = 0; #end
+#ifndef(Frequency) #declare Frequency = 1; #end
+#ifndef(Irradiance) #declare Irradiance = 1; #end
+#declare Material_Irradiance = Irradiance;
+
+#include "libbrdf.inc"
+#include "Material.inc"
+
+Brdf_Ortho_Camera(Material_View_Direction, <0, 0, 0>, 2.3, 2.3)
+
+#switch (Pass)
+  #case (0) #declare Check_Texture = texture { Material_Exact } #break
+  #case (1) #declare Check_Texture = texture { Brdf_Normal_Texture(Frequency) } #break
+  #case (2)
+    #declare Check_Texture = texture { Material_Fit }
+    Brdf_Sun(Material_Light_Direction, rgb Irradiance)
+  #break
+#end
+
+#switch (Shape)
+  #case (0) sphere { 0, 1 texture { Check_Texture } } #break
+  #case (1) torus { 0.72, 0.36 texture { Check_Texture } rotate <-60, 20, 0> } #break
+  #case (2) superellipsoid { <0.35, 0.35> texture { Check_Texture } scale 0.72 rotate <30, -35, 10> } #break
+#end

@@ -1,0 +1,129 @@
+"""Runs inside Blender (tests/blender/test_blender_addon.py starts it): the add-on installs with
+Blender's installer, registers and unregisters symmetrically, its preset operator fills the panel
+settings, the operator refuses bad input and a scene without a sun with one-line errors, FIT mode
+needs no sun, OSL mode sets up a Script node on the generated shader, and the sun's drivers update
+the node group when the lamp turns. Exit status 1 on any failure."""
+
+import json
+import os
+import sys
+
+import addon_utils
+import bpy
+import mathutils
+
+MODULE = "libbrdf_materials"
+failures = []
+
+
+def check(condition, message):
+    print(("ok   " if condition else "FAIL ") + message, flush=True)
+    if not condition:
+        failures.append(message)
+
+
+def run_operator(**kwargs):
+    """(result, [error messages]) of bpy.ops.libbrdf.add_material."""
+    try:
+        return bpy.ops.libbrdf.add_material(**kwargs), []
+    except RuntimeError as e:  # operator reported an ERROR
+        return {"CANCELLED"}, [line.strip().removeprefix("Error: ") for line in str(e).splitlines() if line.strip()]
+
+
+def main():
+    zip_path = sys.argv[sys.argv.index("--") + 1]
+    bpy.ops.preferences.addon_install(filepath=zip_path, overwrite=True)
+    addon_utils.enable(MODULE, default_set=True)
+    check(MODULE in bpy.context.preferences.addons, "add-on installed and enabled")
+    module = sys.modules[MODULE]
+    check(os.environ["BLENDER_USER_SCRIPTS"] in module.__file__, f"loaded from the installed copy ({module.__file__})")
+    check(hasattr(bpy.ops.libbrdf, "add_material") and hasattr(bpy.types.Scene, "libbrdf"),
+          "operator and scene settings registered")
+    check(hasattr(bpy.types, "LIBBRDF_PT_material") and bpy.types.LIBBRDF_PT_material.bl_context == "material",
+          "panel in Material Properties")
+    prefs = bpy.context.preferences.addons[MODULE].preferences
+    check(prefs.brdf_executable == "", "preference: brdf executable empty by default (env, then PATH)")
+
+    scene = bpy.context.scene
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj, do_unlink=True)
+    bpy.ops.libbrdf.apply_preset(preset="ROUGH_BK7")
+    s = scene.libbrdf
+    check((s.material, s.sigma_s, s.model) == ("BK7", 0.2, "mbk") or abs(s.sigma_s - 0.2) < 1e-6 and s.material == "BK7",
+          f"preset fills the panel settings: {s.material} {s.sigma_s:g} {s.model}")
+
+    bpy.ops.mesh.primitive_uv_sphere_add()
+    obj = bpy.context.active_object
+    result, errors = run_operator(model="mbk", material="Au", sigma_s=0.1, lc=2.0, mode="LUT")
+    check(result == {"CANCELLED"} and any(e.startswith("scene:") for e in errors),
+          f"LUT without a sun refused: {errors}")
+    result, errors = run_operator(model="mbk", material="Xx", sigma_s=0.1, lc=2.0, mode="FIT")
+    check(result == {"CANCELLED"} and any(e.startswith("material:") for e in errors), f"bad material refused: {errors}")
+    result, errors = run_operator(model="mbk", material="Au", sigma_s=0.1, lc=2.0, wavelengths=(0.65, 0.55, 5.0),
+                                  mode="FIT")
+    check(result == {"CANCELLED"} and any(e.startswith("brdf: error: wavelength") for e in errors),
+          f"brdf's error shown: {errors}")
+
+    result, _ = run_operator(model="mbk", material="Al", sigma_s=0.2, lc=2.0, mode="FIT")
+    mat = obj.active_material
+    group = mat.node_tree.nodes.get("libbrdf") if mat else None
+    check(result == {"FINISHED"} and group is not None, "FIT without a sun: material with a libbrdf group")
+    if group:
+        kinds = {n.bl_idname for n in group.node_tree.nodes}
+        glossy = [n for n in group.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfGlossy"]
+        check("ShaderNodeTexImage" not in kinds and any(n.distribution == "BECKMANN" for n in glossy),
+              "FIT group: Beckmann Glossy, no image")
+        surface = next(n for n in mat.node_tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial").inputs["Surface"]
+        check(surface.is_linked and surface.links[0].from_node == group, "group drives the material's Surface")
+
+    light = bpy.data.lights.new("Sun", "SUN")
+    sun = bpy.data.objects.new("Sun", light)
+    scene.collection.objects.link(sun)
+    sun.rotation_euler = (0.3, 0.2, 0.0)
+    bpy.context.view_layer.objects.active = obj
+    result, _ = run_operator(model="bk-modified", material="Cu", sigma_s=0.05, lc=2.0, mode="LUT",
+                             resolution=(32, 16, 8))
+    group = obj.active_material.node_tree.nodes["libbrdf"]
+    images = [n.image for n in group.node_tree.nodes if n.bl_idname == "ShaderNodeTexImage"]
+    check(result == {"FINISHED"} and len(images) == 10 and len({i.name for i in images}) == 1,
+          f"LUT group: 10 Closest lookups of one atlas ({len(images)})")
+    image = images[0]
+    check(image.colorspace_settings.name == "Non-Color" and not image.use_half_precision and image.size[0] > 0,
+          f"atlas loaded as Non-Color float ({image.size[0]}x{image.size[1]})")
+    check(all(n.interpolation == "Closest" and n.extension == "EXTEND"
+              for n in group.node_tree.nodes if n.bl_idname == "ShaderNodeTexImage"), "Closest, Extend lookups")
+    for rotation in ((0.3, 0.2, 0.0), (1.1, -0.4, 0.7)):
+        sun.rotation_euler = rotation
+        bpy.context.view_layer.update()
+        evaluated = obj.active_material.evaluated_get(bpy.context.evaluated_depsgraph_get()).node_tree.nodes["libbrdf"]
+        direction = mathutils.Vector(evaluated.inputs["Light Direction"].default_value)
+        expected = sun.matrix_world.col[2].xyz.normalized()
+        check((direction - expected).length < 1e-6, f"driver: Light Direction {tuple(round(v, 4) for v in direction)} "
+                                                    f"follows the sun {tuple(round(v, 4) for v in expected)}")
+    light.energy = 4.5
+    bpy.context.view_layer.update()
+    evaluated = obj.active_material.evaluated_get(bpy.context.evaluated_depsgraph_get()).node_tree.nodes["libbrdf"]
+    check(abs(evaluated.inputs["Sun Strength"].default_value - 4.5) < 1e-6, "driver: Sun Strength follows the lamp")
+
+    result, _ = run_operator(model="mbk", material="Au", sigma_s=0.1, lc=2.0, mode="OSL", resolution=(32, 16, 8))
+    group = obj.active_material.node_tree.nodes["libbrdf"]
+    script = next((n for n in group.node_tree.nodes if n.bl_idname == "ShaderNodeScript"), None)
+    check(result == {"FINISHED"} and script is not None and script.mode == "EXTERNAL"
+          and script.filepath.endswith(".osl") and os.path.isfile(script.filepath),
+          f"OSL group: Script node on the generated shader ({script.filepath if script else None})")
+    check(scene.cycles.shading_system, "OSL mode turns Cycles' Open Shading Language on")
+    with open(script.filepath, encoding="utf-8") as f:
+        check("shader libbrdf_" in f.read(), "the Script node's file is a libbrdf shader")
+
+    addon_utils.disable(MODULE, default_set=True)
+    check(not hasattr(bpy.ops.libbrdf, "add_material") or "add_material" not in dir(bpy.ops.libbrdf),
+          "operator gone after disable")
+    check(not hasattr(bpy.types.Scene, "libbrdf") and not hasattr(bpy.types, "LIBBRDF_PT_material"),
+          "scene settings and panel gone after disable")
+    addon_utils.enable(MODULE, default_set=True)
+    check(hasattr(bpy.types, "LIBBRDF_PT_material"), "re-enable registers again")
+    print(json.dumps({"failures": len(failures)}))
+    sys.exit(1 if failures else 0)
+
+
+main()

@@ -1,0 +1,103 @@
+"""Per-pixel check of a libbrdf Blender render against `brdf eval` (plain Python: numpy, OpenImageIO).
+
+Shared by tests/blender/test_blender_render.py and tools/render_blender_comparison.py. The
+reference radiance of a pixel is the library's BRDF at the pixel's angles (from its Normal-pass
+normal, the sun direction and the orthographic view direction) times cos(theta_i) and the sun's
+strength and colour; R_spec(theta_v) times the world colour is the mirror lobe's part.
+"""
+
+import json
+import subprocess
+
+import numpy as np
+import OpenImageIO as oiio
+
+
+def read_passes(path):
+    """{pass name: HxWxC float array} of a Blender multilayer EXR (rows top to bottom)."""
+    buf = oiio.ImageBuf(path)
+    if buf.has_error:
+        raise RuntimeError(f"{path}: {buf.geterror()}")
+    spec = buf.spec()
+    pixels = buf.get_pixels(oiio.FLOAT).reshape(spec.height, spec.width, spec.nchannels)
+    passes = {}
+    for index, name in enumerate(spec.channelnames):
+        parts = name.split(".")
+        layer_pass, channel = ".".join(parts[-2:-1]), parts[-1]
+        passes.setdefault(layer_pass, {})[channel] = pixels[:, :, index]
+    out = {}
+    for name, channels in passes.items():
+        order = [c for c in ("R", "G", "B", "X", "Y", "Z", "A") if c in channels]
+        out[name] = np.stack([channels[c] for c in order], axis=-1)
+    return out
+
+
+def erode(mask, steps):
+    m = mask.copy()
+    for _ in range(steps):
+        m[1:, :] &= m[:-1, :].copy()
+        m[:-1, :] &= m[1:, :].copy()
+        m[:, 1:] &= m[:, :-1].copy()
+        m[:, :-1] &= m[:, 1:].copy()
+    return m
+
+
+def pixel_angles(normals, light, view):
+    """theta_i, theta_s, phi_s (degrees) per normal (N x 3) for world-space unit L and V."""
+    n = normals / np.linalg.norm(normals, axis=1, keepdims=True)
+    light = np.asarray(light, float) / np.linalg.norm(light)
+    view = np.asarray(view, float) / np.linalg.norm(view)
+    cos_i = np.clip(n @ light, -1.0, 1.0)
+    cos_s = np.clip(n @ view, -1.0, 1.0)
+    # Azimuth between the projections of L and V on the tangent plane (phi_i = 0; conventions.md).
+    lt = light[None, :] - cos_i[:, None] * n
+    vt = view[None, :] - cos_s[:, None] * n
+    denominator = np.linalg.norm(lt, axis=1) * np.linalg.norm(vt, axis=1)
+    cos_phi = np.where(denominator > 1e-12, np.sum(lt * vt, axis=1) / np.maximum(denominator, 1e-300), -1.0)
+    return (np.degrees(np.arccos(cos_i)), np.degrees(np.arccos(cos_s)),
+            np.degrees(np.arccos(np.clip(cos_phi, -1.0, 1.0))))
+
+
+def description_surface(description_path):
+    """(model, [per-channel parameter dict]) of an exported material description."""
+    with open(description_path, encoding="utf-8") as f:
+        d = json.load(f)
+    return d, d["model"], json.loads(d["lut"]["attributes"]["parameters"]) if "lut" in d else None
+
+
+def brdf_eval(brdf, model, p, angles):
+    """`brdf eval` of one channel (parameter dict as in the table's 'parameters') at N angle triples."""
+    cmd = [brdf, "eval", "--model", model, "--wavelength", repr(p["wavelength_um"]),
+           "--sigma-s", repr(p["sigma_s_um"]), "--lc", repr(p["lc_um"]),
+           "--n", repr(p["n"]), "--k", repr(p["kappa"]), "--queries", "-"]
+    text = "\n".join(f"{a:.17g},{b:.17g},{c:.17g}" for a, b, c in zip(*angles)) + "\n"
+    done = subprocess.run(cmd, input=text, capture_output=True, text=True)
+    if done.returncode != 0:
+        raise RuntimeError(f"{' '.join(cmd)}: {done.stderr.strip()}")
+    values = np.loadtxt(done.stdout.splitlines()[1:], delimiter=",", ndmin=2)[:, 3]
+    if values.shape[0] != len(angles[0]):
+        raise RuntimeError("brdf eval returned a different number of values")
+    return values
+
+
+def predicted_radiance(brdf, model, channels, normals, light, view, strength, colour):
+    """Per-pixel radiance (N x 3) = f_r cos(theta_i) E C, from `brdf eval` at each channel."""
+    ti, ts, ps = pixel_angles(normals, light, view)
+    cos_i = np.cos(np.radians(ti))
+    out = np.zeros((normals.shape[0], 3))
+    lit = (ti < 89.9) & (ts < 89.9)  # elsewhere the radiance is 0 (sun or camera below the horizon)
+    for rgb in range(3):
+        p = channels[min(rgb, len(channels) - 1)]
+        out[lit, rgb] = brdf_eval(brdf, model, p, (ti[lit], ts[lit], ps[lit])) * cos_i[lit] * strength * colour[rgb]
+    return out, (ti, ts, ps)
+
+
+def predicted_spike(brdf, model, channels, normals, view, world):
+    """Mirror-lobe radiance R_spec(theta_v) x world colour per pixel (N x 3)."""
+    _, ts, _ = pixel_angles(normals, view, view)
+    out = np.zeros((normals.shape[0], 3))
+    seen = ts < 89.9
+    for rgb in range(3):
+        p = channels[min(rgb, len(channels) - 1)]
+        out[seen, rgb] = brdf_eval(brdf, "r-spec", p, (ts[seen], ts[seen], np.full(seen.sum(), 180.0))) * world[rgb]
+    return out

@@ -1,0 +1,206 @@
+"""The add-on's Blender-free logic (blender_addon/libbrdf_materials/core.py) and the
+`brdf export blender` command-line contract, with plain Python (no bpy).
+Usage: test_addon_core.py   (env BRDF_EXE, LIBBRDF_ROOT)
+"""
+
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import tomllib
+
+import OpenImageIO as oiio
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.environ.get("LIBBRDF_ROOT", os.path.normpath(os.path.join(HERE, "..", "..")))
+sys.path.insert(0, os.path.join(ROOT, "blender_addon"))
+
+import libbrdf_materials  # noqa: E402
+from libbrdf_materials import core  # noqa: E402
+
+BRDF = os.environ.get("BRDF_EXE", "brdf")
+failures = []
+
+
+def check(condition, message):
+    print(("ok   " if condition else "FAIL ") + message)
+    if not condition:
+        failures.append(message)
+
+
+def rejects(parameter, **changes):
+    try:
+        core.MaterialRequest(**changes).validated()
+    except core.RequestError as e:
+        text = str(e)
+        check(text.startswith(parameter + ":") and "\n" not in text, f"rejects {changes}: {text}")
+        return
+    check(False, f"rejects {changes} (accepted)")
+
+
+def test_package_without_bpy():
+    info = libbrdf_materials.bl_info
+    check(info["blender"] == (3, 4, 0) and "Material" in info["location"], f"bl_info {info['name']} {info['blender']}")
+    check(not hasattr(libbrdf_materials, "classes"), "no Blender classes when imported without bpy")
+    with open(os.path.join(ROOT, "blender_addon", "libbrdf_materials", "blender_manifest.toml"), "rb") as f:
+        manifest = tomllib.load(f)
+    check(manifest["id"] == "libbrdf_materials" and manifest["type"] == "add-on", "manifest id and type")
+    check(tuple(int(v) for v in manifest["version"].split(".")) == info["version"], "manifest version = bl_info version")
+
+
+def test_validation():
+    r = core.MaterialRequest(material="Au").validated()
+    check(r.name == "mbk Au s0.1 lc2" and r.wavelengths == core.DEFAULT_WAVELENGTHS, f"defaults: name {r.name!r}")
+    rejects("model", model="phong")
+    rejects("mode", mode="RAYTRACE")
+    rejects("sigma_s", sigma_s=-0.1)
+    rejects("sigma_s", sigma_s=math.nan)
+    rejects("lc", lc=0.0)
+    rejects("lc", lc=math.inf)
+    rejects("n", n=0.0)
+    rejects("k", k=-1.0)
+    rejects("material", material="Unobtainium")
+    rejects("wavelengths", wavelengths=(0.5, 0.6))
+    rejects("wavelengths", wavelengths=(0.65, 0.0, 0.45))
+    rejects("resolution", resolution=(1, 64, 48))
+    check(core.MaterialRequest(sigma_s=0.0, n=1.5).validated().sigma_s == 0.0, "sigma_s = 0 (a mirror) is valid")
+
+
+def test_presets():
+    kinds = {"polished metal": False, "rough metal": False, "rough dielectric": False}
+    for key, (label, description, values) in core.PRESETS.items():
+        r = core.apply_preset(core.MaterialRequest(), key).validated()
+        metal = r.material not in ("BK7", "Si")
+        kinds["polished metal"] |= metal and r.sigma_s <= 0.01
+        kinds["rough metal"] |= metal and r.sigma_s >= 0.1
+        kinds["rough dielectric"] |= r.material == "BK7" and r.sigma_s >= 0.1
+        check(r.material in core.MATERIALS, f"preset {key} ({label}) valid: {r.name}")
+    for kind, present in kinds.items():
+        check(present, f"a preset for {kind}")
+    try:
+        core.apply_preset(core.MaterialRequest(), "NOPE")
+        check(False, "unknown preset rejected")
+    except core.RequestError as e:
+        check(str(e).startswith("preset:"), f"unknown preset rejected: {e}")
+
+
+def test_command():
+    r = core.MaterialRequest(model="bk-modified", material="Cu", sigma_s=0.05, lc=1.5,
+                             wavelengths=(0.6499999761581421, 0.55, 0.45), mode="OSL").validated()
+    args = core.export_arguments(r)
+    expected = ["export", "blender", "--model", "bk-modified", "--sigma-s", "0.05", "--lc", "1.5",
+                "--wavelength", "0.65,0.55,0.45", "--mode", "osl", "--name", r.name, "--material", "Cu",
+                "--resolution", "128,64,48"]
+    check(args == expected, f"export arguments {args}")
+    fit = core.export_arguments(core.MaterialRequest(n=1.5, k=0.0, mode="FIT").validated())
+    check("--resolution" not in fit and fit[fit.index("--n") + 1] == "1.5" and "--material" not in fit,
+          f"FIT with n, k: {fit}")
+    argv, description = core.export_command("/x/brdf", r, "/tables")
+    check(argv[0] == "/x/brdf" and argv[-2:] == ["--output", description] and description.endswith(".json"),
+          "export command ends with --output DIR/STEM.json")
+    other = core.MaterialRequest(model="bk-modified", material="Cu", sigma_s=0.051, lc=1.5, mode="OSL").validated()
+    check(core.cache_stem(r) != core.cache_stem(other) and core.cache_stem(r) == core.cache_stem(r),
+          "cache stem follows the parameters")
+
+
+def test_executable_lookup(tmp):
+    try:
+        core.find_brdf_executable(os.path.join(tmp, "missing"))
+        check(False, "missing executable rejected")
+    except core.RequestError as e:
+        check(str(e).startswith("brdf executable:"), f"missing executable rejected: {e}")
+    saved = os.environ.get("LIBBRDF_BRDF_EXE")
+    os.environ["LIBBRDF_BRDF_EXE"] = BRDF
+    try:
+        check(core.find_brdf_executable("") == os.path.abspath(BRDF), "LIBBRDF_BRDF_EXE used when no preference")
+    finally:
+        if saved is None:
+            del os.environ["LIBBRDF_BRDF_EXE"]
+        else:
+            os.environ["LIBBRDF_BRDF_EXE"] = saved
+
+
+def test_export_and_cache(tmp):
+    r = core.MaterialRequest(model="mbk", material="Al", sigma_s=0.2, lc=2.0, resolution=(24, 16, 12)).validated()
+    path = core.run_export(BRDF, r, tmp)
+    d = core.load_description(path)
+    atlas = core.sibling(path, d["lut"]["file"])
+    spec = oiio.ImageInput.open(atlas).spec()
+    lut = d["lut"]
+    n0, n1, n2 = lut["theta_h"]["nodes"], lut["theta_d"]["nodes"], lut["phi_d"]["nodes"]
+    check((n0, n1, n2) == (24, 16, 12), f"table shape {n0}x{n1}x{n2}")
+    rows = -(-n2 // lut["columns"])
+    check(lut["tile_rows"] == rows and lut["specular"]["row"] == rows * n1 and spec.height == rows * n1 + 1
+          and spec.width == max(lut["columns"] * n0, lut["specular"]["nodes"]) and spec.nchannels == 3
+          and spec.format == oiio.FLOAT,
+          f"atlas {spec.width}x{spec.height} float RGB = {lut['columns']} x {rows} tiles + R_spec row")
+    check(spec.getattribute("libbrdf:format") == "blender-atlas" and "texel x" in spec.getattribute("libbrdf:atlas"),
+          "atlas header documents the layout")
+    check(d["wavelengths_um"] == [0.65, 0.55, 0.45] and d["model"] == "mbk", "description wavelengths and model")
+    mtime = os.path.getmtime(path)
+    again = core.run_export(BRDF, r, tmp)
+    check(again == path and os.path.getmtime(path) == mtime, "second request reuses the cached export")
+    leftovers = [f for f in os.listdir(tmp) if ".tmp" in f]
+    check(not leftovers, f"no temporary files left ({leftovers})")
+
+    # brdf's own checks reach the add-on as one-line errors naming the parameter.
+    bad = core.MaterialRequest(model="mbk", material="Au", sigma_s=0.1, lc=2.0, wavelengths=(0.65, 0.55, 3.0))
+    try:
+        core.run_export(BRDF, bad.validated(), tmp)
+        check(False, "out-of-table wavelength rejected by brdf")
+    except core.ExportError as e:
+        check(str(e).startswith("brdf: error: wavelength") and "\n" not in str(e), f"brdf error passed on: {e}")
+    foreign = os.path.join(tmp, "foreign.json")
+    with open(foreign, "w", encoding="utf-8") as f:
+        json.dump({"format": "something else"}, f)
+    try:
+        core.load_description(foreign)
+        check(False, "foreign description rejected")
+    except core.ExportError as e:
+        check("not a libbrdf Blender material description" in str(e), f"foreign description rejected: {e}")
+
+
+def test_cli_contract(tmp):
+    def run(*args):
+        return subprocess.run([BRDF, "export", "blender", *args], capture_output=True, text=True)
+    base = ["--model", "mbk", "--material", "Au", "--sigma-s", "0.1", "--lc", "2"]
+    out = os.path.join(tmp, "x.json")
+    for args, parameter in ((base + ["--output", out, "--mode", "bogus"], "mode"),
+                            (base + ["--output", os.path.join(tmp, "x.txt")], "output"),
+                            (base + ["--output", os.path.join(tmp, "nodir", "x.json")], "output"),
+                            (base + ["--output", out, "--wavelength", "0.5,0.6"], "wavelength"),
+                            (base + ["--output", out, "--resolution", "1,16,16"], "resolution"),
+                            (base + ["--output", out, "--resolution", "16,16"], "resolution"),
+                            (["--model", "fresnel", "--material", "Au", "--sigma-s", "0.1", "--lc", "2",
+                              "--output", out], "model"),
+                            (["--model", "mbk", "--material", "Au", "--sigma-s", "-1", "--lc", "2", "--output", out],
+                             "sigma_s")):
+        done = run(*args)
+        lines = done.stderr.strip().splitlines()
+        check(done.returncode == 2 and len(lines) == 1 and lines[0].startswith(f"brdf: error: {parameter}"),
+              f"export blender {' '.join(args[-2:])}: exit {done.returncode}, {lines}")
+    check(not os.path.exists(out), "no description written by a failed export")
+    done = run(*base, "--output", out, "--mode", "fit")
+    check(done.returncode == 0 and done.stdout.split() == [out], f"fit mode writes only the description ({done.stdout.split()})")
+
+
+def main():
+    test_package_without_bpy()
+    test_validation()
+    test_presets()
+    test_command()
+    with tempfile.TemporaryDirectory() as tmp:
+        test_executable_lookup(tmp)
+        test_export_and_cache(tmp)
+        test_cli_contract(tmp)
+    if failures:
+        print(f"{len(failures)} check(s) failed")
+        return 1
+    print("add-on core checks passed")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

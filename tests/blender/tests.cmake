@@ -1,0 +1,12 @@
+# The Blender add-on (blender_addon/libbrdf_materials), `brdf export blender`, its OSL shader and
+# real Blender renders. Included by tests/CMakeLists.txt.
+add_python_test(blender_addon_core blender/test_addon_core.py)
+add_python_test(blender_nodegraph blender/test_nodegraph.py)
+add_python_test(blender_osl_shader blender/test_osl_shader.py ${CMAKE_CXX_COMPILER})
+add_python_test(blender_addon_in_blender blender/test_blender_addon.py)
+add_python_test(blender_render_cycles blender/test_blender_render.py --engine CYCLES)
+add_python_test(blender_render_eevee blender/test_blender_render.py --engine BLENDER_EEVEE)
+set_tests_properties(blender_addon_core blender_nodegraph blender_osl_shader blender_addon_in_blender
+                     blender_render_cycles blender_render_eevee PROPERTIES LABELS blender TIMEOUT 300)
+# 77: EEVEE found no OpenGL context (headless without EGL); reported as skipped, not passed.
+set_tests_properties(blender_render_eevee PROPERTIES SKIP_RETURN_CODE 77)

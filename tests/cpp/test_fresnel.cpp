@@ -1,0 +1,147 @@
+// Fresnel reflectance and Stover's polarization factors (conventions.md): limits and the specular
+// identities Q_s = R_s, Q_p = R_p, Qbar = F. References in long-double complex arithmetic.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <complex>
+#include <vector>
+
+#include "libbrdf/error.h"
+#include "libbrdf/fresnel.h"
+#include "libbrdf/geometry.h"
+#include "test_support.h"
+
+namespace {
+
+using namespace libbrdf;
+using libbrdf_test::deg;
+using libbrdf_test::relative_difference;
+
+// The indices the paper's metals and dielectrics span, incl. n < 1 (total internal reflection).
+const std::vector<ComplexIndex> kIndices{{4.0, 10.0}, {1.5, 1.0}, {1.4, 0.0}, {1.7, 5.0}, {0.25, 3.0}, {0.8, 0.0}, {0.05, 0.0}};
+const std::vector<double> kAnglesDeg{0, 1, 10, 30, 45, 60, 75, 85, 89, 89.9};
+
+// |r_s|^2 and |r_p|^2 from the textbook (Born & Wolf sec. 13.4) in long double.
+struct SP {
+  long double s, p;
+};
+SP reference_fresnel(const ComplexIndex& index, long double theta) {
+  using C = std::complex<long double>;
+  const C n(index.n, index.kappa), eps = n * n;
+  const long double c = std::cos(theta), s2 = std::sin(theta) * std::sin(theta);
+  C w = std::sqrt(eps - s2);
+  if (w.imag() < 0) w = -w;  // principal branch with Im w >= 0 (conventions.md)
+  return {std::norm((c - w) / (c + w)), std::norm((eps * c - w) / (eps * c + w))};
+}
+
+std::string describe(const ComplexIndex& index) {
+  return "n=" + std::to_string(index.n) + "+" + std::to_string(index.kappa) + "i";
+}
+
+TEST(Fresnel, ReflectancesMatchLongDoubleTextbookFormulas) {
+  for (const ComplexIndex& index : kIndices) {
+    for (double angle : kAnglesDeg) {
+      const FresnelSP rsp = fresnel_sp(index.permittivity(), std::cos(deg(angle)));
+      const SP ref = reference_fresnel(index, deg(angle));
+      EXPECT_NEAR(rsp.r_s, static_cast<double>(ref.s), 1e-13) << describe(index) << " at " << angle << " deg";
+      EXPECT_NEAR(rsp.r_p, static_cast<double>(ref.p), 1e-13) << describe(index) << " at " << angle << " deg";
+    }
+  }
+}
+
+TEST(Fresnel, QsEqualsRsAndQpEqualsRpAtSpecular) {
+  for (const ComplexIndex& index : kIndices) {
+    for (double angle : kAnglesDeg) {
+      const ScatterGeometry geo = make_scatter_geometry({deg(angle), deg(angle), kPi});
+      const PolarizationFactors q = stover_q(index.permittivity(), geo);
+      const SP ref = reference_fresnel(index, deg(angle));
+      EXPECT_NEAR(q.q_s(), static_cast<double>(ref.s), 1e-12) << describe(index) << " at " << angle << " deg";
+      EXPECT_NEAR(q.q_p(), static_cast<double>(ref.p), 1e-12) << describe(index) << " at " << angle << " deg";
+      // In the plane of incidence there is no cross-polarization (sin(pi) ~ 1e-16 rounding only).
+      EXPECT_LE(q.sp, 1e-28) << describe(index) << " at " << angle << " deg";
+      EXPECT_LE(q.ps, 1e-28) << describe(index) << " at " << angle << " deg";
+    }
+  }
+}
+
+TEST(Fresnel, QbarEqualsFAndPaperQEqualsTwoFAtSpecular) {
+  for (const ComplexIndex& index : kIndices) {
+    for (double angle : kAnglesDeg) {
+      const ScatterGeometry geo = make_scatter_geometry({deg(angle), deg(angle), kPi});
+      const PolarizationFactors q = stover_q(index.permittivity(), geo);
+      const double f = fresnel_reflectance(index.permittivity(), std::cos(deg(angle)));
+      EXPECT_LE(relative_difference(q.q_bar(), f), 1e-12) << describe(index) << " at " << angle << " deg: Qbar " << q.q_bar() << " F " << f;
+      EXPECT_LE(relative_difference(q.q_paper(), 2.0 * f), 1e-12) << describe(index) << " at " << angle << " deg";
+    }
+  }
+}
+
+TEST(Fresnel, NormalIncidenceEqualsClosedForm) {
+  for (const ComplexIndex& index : kIndices) {
+    const double n = index.n, k = index.kappa;
+    const double expected = ((n - 1) * (n - 1) + k * k) / ((n + 1) * (n + 1) + k * k);
+    const double f = fresnel_reflectance(index.permittivity(), 1.0);
+    EXPECT_LE(relative_difference(f, expected), 1e-14) << describe(index) << ": F(0) = " << f << ", expected " << expected;
+  }
+}
+
+TEST(Fresnel, ReflectanceTendsToOneAtGrazing) {
+  for (const ComplexIndex& index : kIndices) {
+    double previous_gap = 1.0;
+    for (double cos_theta : {1e-2, 1e-4, 1e-6, 1e-9, 1e-12}) {
+      const double f = fresnel_reflectance(index.permittivity(), cos_theta);
+      const double gap = 1.0 - f;
+      EXPECT_GE(gap, 0.0) << describe(index) << " F = " << f << " > 1 at cos = " << cos_theta;
+      // 1 - F = O(cos theta) with a coefficient ~ 4 |eps| / |w| (< 100 for these indices).
+      EXPECT_LE(gap, 100.0 * cos_theta) << describe(index) << " at cos theta = " << cos_theta;
+      EXPECT_LE(gap, previous_gap + 1e-15) << describe(index) << " not approaching 1";
+      previous_gap = gap;
+    }
+  }
+}
+
+TEST(Fresnel, TotalInternalReflectionBelowUnitIndex) {
+  // n = 0.8: critical angle asin(0.8) = 53.13 deg; beyond it R_s = R_p = 1.
+  const ComplexIndex index{0.8, 0.0};
+  for (double angle : {54.0, 60.0, 80.0}) {
+    const FresnelSP rsp = fresnel_sp(index.permittivity(), std::cos(deg(angle)));
+    EXPECT_NEAR(rsp.r_s, 1.0, 1e-14) << angle;
+    EXPECT_NEAR(rsp.r_p, 1.0, 1e-14) << angle;
+  }
+  EXPECT_LT(fresnel_reflectance(index.permittivity(), std::cos(deg(50.0))), 0.9);
+}
+
+TEST(Fresnel, PolarizationFactorsAreReciprocalAndNonNegative) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> polar(0.0, deg(89.5)), azimuth(-kPi, 3 * kPi);
+  for (const ComplexIndex& index : kIndices) {
+    for (int i = 0; i < 500; ++i) {
+      const double ti = polar(rng), ts = polar(rng), phi = azimuth(rng);
+      const PolarizationFactors a = stover_q(index.permittivity(), make_scatter_geometry({ti, ts, phi}));
+      const PolarizationFactors b = stover_q(index.permittivity(), make_scatter_geometry({ts, ti, phi}));
+      ASSERT_GE(std::min({a.ss, a.sp, a.ps, a.pp}), 0.0);
+      // Swapping the directions swaps the cross terms and keeps ss, pp: Qbar is reciprocal.
+      ASSERT_LE(relative_difference(a.ss, b.ss), 1e-12) << describe(index);
+      ASSERT_LE(relative_difference(a.pp, b.pp), 1e-12) << describe(index) << " pp " << a.pp << " vs " << b.pp;
+      ASSERT_LE(relative_difference(a.sp, b.ps), 1e-12) << describe(index);
+      ASSERT_LE(relative_difference(a.q_bar(), b.q_bar()), 1e-12) << describe(index);
+    }
+  }
+}
+
+TEST(Fresnel, ValidateIndexRejectsNonPositiveNAndNegativeKappa) {
+  auto parameter_of = [](const ComplexIndex& index) -> std::string {
+    try {
+      validate_index(index);
+    } catch (const InvalidArgument& e) {
+      return e.parameter();
+    }
+    return "accepted";
+  };
+  EXPECT_EQ(parameter_of({0.0, 1.0}), "n");
+  EXPECT_EQ(parameter_of({std::nan(""), 1.0}), "n");
+  EXPECT_EQ(parameter_of({1.5, -0.1}), "k");
+  EXPECT_EQ(parameter_of({1.5, 0.0}), "accepted");
+}
+
+}  // namespace

@@ -1,0 +1,160 @@
+// Geometry identities of the paper (eqs 5, 6, 10, 17-19) and the BK / S identities (eqs 22, 26-28),
+// over random in-plane and out-of-plane angles (fixed seed). References in long double.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "libbrdf/beckmann_kirchhoff.h"
+#include "libbrdf/error.h"
+#include "libbrdf/geometry.h"
+#include "test_support.h"
+
+namespace {
+
+using namespace libbrdf;
+using libbrdf_test::deg;
+using libbrdf_test::relative_difference;
+
+// Random geometry: polar angles in [0, 89.9] deg, azimuth in [0, 360) deg; every fourth sample
+// in the plane of incidence (phi_s = 0 or 180 deg), where the identities meet their edge cases.
+struct AngleSampler {
+  std::mt19937_64 rng{20151029};
+  std::uniform_real_distribution<double> polar{0.0, deg(89.9)}, azimuth{0.0, 2.0 * kPi};
+  int count = 0;
+  ScatterAngles next() {
+    ScatterAngles a{polar(rng), polar(rng), azimuth(rng)};
+    if (count++ % 4 == 0) a.phi_s = (count % 8 == 1) ? kPi : 0.0;
+    return a;
+  }
+};
+
+constexpr int kSamples = 20000;
+
+TEST(Geometry, DerivedAnglesMatchLongDoubleEqs5_6_10) {
+  AngleSampler sampler;
+  for (int i = 0; i < kSamples; ++i) {
+    const ScatterAngles a = sampler.next();
+    const ScatterGeometry geo = make_scatter_geometry(a);
+    const long double ti = a.theta_i, ts = a.theta_s, ps = a.phi_s;
+    const long double cos2d = std::cos(ti) * std::cos(ts) + std::sin(ti) * std::sin(ts) * std::cos(ps);  // eq. 5
+    const long double eta2 = std::sin(ti) * std::sin(ti) + std::sin(ts) * std::sin(ts) +
+                             2 * std::sin(ti) * std::sin(ts) * std::cos(ps);  // eq. 10
+    const long double cos_h = (std::cos(ti) + std::cos(ts)) / (2 * std::sqrt((1 + cos2d) / 2));  // eq. 6
+    ASSERT_NEAR(geo.cos_2theta_d, static_cast<double>(cos2d), 1e-15) << "ti=" << a.theta_i << " ts=" << a.theta_s << " phi=" << a.phi_s;
+    ASSERT_NEAR(geo.eta_r2, static_cast<double>(eta2), 4e-15) << "ti=" << a.theta_i << " ts=" << a.theta_s << " phi=" << a.phi_s;
+    ASSERT_LE(relative_difference(geo.cos_theta_h, static_cast<double>(cos_h)), 1e-12)
+        << "cos th " << geo.cos_theta_h << " vs " << static_cast<double>(cos_h);
+  }
+}
+
+// eq. 19: tan^2 th (from eq. 6's cos th, or eq. 17's cos td) equals eta_r^2 / (cos ti + cos ts)^2.
+// eq. 18 is the identity of the numerators, 4 cos^2 td - (ci + cs)^2 = eta_r^2 (all O(1) terms).
+TEST(Geometry, TanSquaredHalfAngleEqualsEtaOverCosineSumEq19) {
+  AngleSampler sampler;
+  double worst18 = 0, worst19 = 0;
+  for (int i = 0; i < kSamples; ++i) {
+    const ScatterAngles a = sampler.next();
+    const ScatterGeometry geo = make_scatter_geometry(a);
+    const long double ti = a.theta_i, ts = a.theta_s, ps = a.phi_s;
+    const long double sum = std::cos(ti) + std::cos(ts);
+    const long double cos2d = std::cos(ti) * std::cos(ts) + std::sin(ti) * std::sin(ts) * std::cos(ps);
+    const long double numerator17 = 2 + 2 * cos2d - sum * sum;  // 4 cos^2 td - (ci + cs)^2, eq. 17/18
+    const long double eta2 = std::sin(ti) * std::sin(ti) + std::sin(ts) * std::sin(ts) +
+                             2 * std::sin(ti) * std::sin(ts) * std::cos(ps);
+    const double err18 = static_cast<double>(std::fabs(numerator17 - eta2));
+    worst18 = std::max(worst18, err18);
+    ASSERT_LE(err18, 1e-15) << "eq. 18 at ti=" << a.theta_i << " ts=" << a.theta_s << " phi=" << a.phi_s;
+
+    // The library's tan^2 th (eq. 19's right-hand side) against tan^2 th = 1/cos^2 th - 1 from its
+    // own eq. 6 cos th. 1 - cos^2 th has rounding ~1e-16, so the comparison is relative to max(1, value).
+    const double rhs = tan2_theta_h(geo);
+    const double ch2 = geo.cos_theta_h * geo.cos_theta_h;
+    const double lhs = (1.0 - ch2) / ch2;
+    const double err19 = std::fabs(lhs - rhs) / std::max(1.0, rhs);
+    worst19 = std::max(worst19, err19);
+    ASSERT_LE(err19, 1e-12) << "eq. 19: 1/cos^2 th - 1 = " << lhs << " vs eta^2/(ci+cs)^2 = " << rhs << " at ti="
+                            << a.theta_i << " ts=" << a.theta_s << " phi=" << a.phi_s;
+    // And against the long-double eq. 17.
+    const double ref17 = static_cast<double>(numerator17 / (sum * sum));
+    ASSERT_LE(std::fabs(ref17 - rhs) / std::max(1.0, rhs), 1e-12) << rhs << " vs eq. 17 " << ref17;
+  }
+  RecordProperty("worst_eq18_abs", std::to_string(worst18));
+  RecordProperty("worst_eq19_rel", std::to_string(worst19));
+}
+
+TEST(BeckmannKirchhoff, GeometricFactorEq27EqualsEq26) {
+  AngleSampler sampler;
+  for (int i = 0; i < kSamples; ++i) {
+    const ScatterAngles a = sampler.next();
+    const ScatterGeometry geo = make_scatter_geometry(a);
+    const double f26 = bk_geometric_factor_eq26(geo), f27 = bk_geometric_factor_eq27(geo);
+    // Long-double eq. 26 as printed in the paper.
+    const long double ti = a.theta_i, ts = a.theta_s, ps = a.phi_s;
+    const long double r = (1 + std::cos(ti) * std::cos(ts) + std::sin(ti) * std::sin(ts) * std::cos(ps)) /
+                          (std::cos(ti) * (std::cos(ti) + std::cos(ts)));
+    ASSERT_LE(relative_difference(f26, f27), 1e-12) << "eq. 26 " << f26 << " vs eq. 27 " << f27 << " at ti=" << a.theta_i
+                                                    << " ts=" << a.theta_s << " phi=" << a.phi_s;
+    ASSERT_LE(relative_difference(f26, static_cast<double>(r * r)), 1e-12) << f26 << " vs long-double eq. 26 " << static_cast<double>(r * r);
+  }
+}
+
+TEST(BeckmannKirchhoff, InverseSEq28EqualsOneOverSEq22) {
+  AngleSampler sampler;
+  for (int i = 0; i < kSamples; ++i) {
+    const ScatterAngles a = sampler.next();
+    const ScatterGeometry geo = make_scatter_geometry(a);
+    const double inv_s = inverse_s_term_eq28(geo), s = s_term(geo);
+    ASSERT_LE(relative_difference(inv_s, 1.0 / s), 1e-12) << "eq. 28 " << inv_s << " vs 1/eq. 22 " << 1.0 / s << " at ti="
+                                                          << a.theta_i << " ts=" << a.theta_s << " phi=" << a.phi_s;
+    // eq. 22 in long double from the angles alone.
+    const long double ti = a.theta_i, ts = a.theta_s, ps = a.phi_s;
+    const long double ci = std::cos(ti), cs = std::cos(ts);
+    const long double cos2d = ci * cs + std::sin(ti) * std::sin(ts) * std::cos(ps);
+    const long double ch2 = (ci + cs) * (ci + cs) / (2 * (1 + cos2d));
+    const long double s_ref = 4 * ci * cs * ch2 * ch2 / ((ci + cs) * (ci + cs));
+    ASSERT_LE(relative_difference(s, static_cast<double>(s_ref)), 1e-12) << s << " vs long-double eq. 22 " << static_cast<double>(s_ref);
+  }
+}
+
+TEST(BeckmannKirchhoff, InverseSEqualsFbkSquaredOnlyAtEqualAngles) {
+  // eq. 26 vs eq. 28: F_bk^2 / (1/S) = cs / ci, so they agree exactly when ti = ts.
+  const ScatterGeometry same = make_scatter_geometry({deg(35), deg(35), deg(120)});
+  EXPECT_NEAR(bk_geometric_factor_eq26(same) / inverse_s_term_eq28(same), 1.0, 1e-14);
+  const ScatterGeometry other = make_scatter_geometry({deg(10), deg(60), deg(180)});
+  const double ratio = bk_geometric_factor_eq26(other) / inverse_s_term_eq28(other);
+  EXPECT_NEAR(ratio, std::cos(deg(60)) / std::cos(deg(10)), 1e-13) << "F_bk^2 S = cs/ci expected";
+}
+
+TEST(Geometry, RoughnessGMatchesEq12) {
+  // g = (2 pi sigma/lambda)^2 (ci + cs)^2: at normal incidence and scatter, (4 pi sigma/lambda)^2.
+  EXPECT_NEAR(roughness_g(0.1, 1.0, 1.0), std::pow(4.0 * kPi * 0.1, 2), 1e-13);
+  EXPECT_NEAR(roughness_g(0.25, std::cos(deg(60)), std::cos(deg(30))),
+              std::pow(2.0 * kPi * 0.25 * (0.5 + std::sqrt(3.0) / 2.0), 2), 1e-13);
+}
+
+TEST(Geometry, RejectsPolarAnglesAtOrBelowHorizonAndNaN) {
+  for (double bad : {kPi / 2, 2.0, -1e-9, std::nan("")}) {
+    try {
+      make_scatter_geometry({bad, 0.1, kPi});
+      ADD_FAILURE() << "theta_i = " << bad << " accepted";
+    } catch (const InvalidArgument& e) {
+      EXPECT_EQ(e.parameter(), "theta_i") << e.what();
+    }
+    try {
+      make_scatter_geometry({0.1, bad, kPi});
+      ADD_FAILURE() << "theta_s = " << bad << " accepted";
+    } catch (const InvalidArgument& e) {
+      EXPECT_EQ(e.parameter(), "theta_s") << e.what();
+    }
+  }
+  try {
+    make_scatter_geometry({0.1, 0.2, std::numeric_limits<double>::infinity()});
+    ADD_FAILURE() << "phi_s = inf accepted";
+  } catch (const InvalidArgument& e) {
+    EXPECT_EQ(e.parameter(), "phi_s") << e.what();
+  }
+}
+
+}  // namespace

@@ -1,0 +1,9 @@
+# POV-Ray export (issue #4): the exporter's table, fit and include (GoogleTest, no POV-Ray), the
+# `brdf export povray` contract, real POV-Ray renders of NAME_Exact against `brdf eval`, and the
+# comparison tool at reduced size.
+add_libbrdf_test(povray_exporter_tests ${CMAKE_CURRENT_LIST_DIR}/test_povray_exporter.cpp)
+target_link_libraries(povray_exporter_tests PRIVATE libbrdf_exporters)
+add_python_test(povray.export_cli povray/test_export_cli.py)
+add_python_test(povray.exact_render povray/test_exact_render.py)
+add_python_test(povray.comparison_tool povray/test_comparison_tool.py)
+set_tests_properties(povray.export_cli povray.exact_render povray.comparison_tool PROPERTIES LABELS povray TIMEOUT 600)

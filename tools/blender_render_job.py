@@ -1,0 +1,217 @@
+"""Renders a list of small libbrdf scenes inside Blender (run by Blender, not by plain Python):
+
+    blender -b --factory-startup --python tools/blender_render_job.py -- JOB.json
+
+JOB.json (written by tools/render_blender_comparison.py and tests/blender/test_blender_render.py):
+  {"addon": {"zip": PATH} | {"path": DIR},     # install the add-on zip, or import it from DIR
+   "results": PATH,                            # JSON written at the end (per render: what was set up)
+   "renders": [{
+      "output": PATH.exr,                      # multilayer EXR: Combined + requested passes
+      "resolution": [W, H], "samples": 1, "engine": "CYCLES" | "BLENDER_EEVEE", "filter_width": 0.01,
+      "camera": {"direction": [x, y, z], "ortho_scale": S},   # direction: from the origin to the camera
+      "sun": {"direction": [x, y, z], "strength": E, "color": [r, g, b], "angle_deg": 0},  # towards the sun
+      "world": [r, g, b],                      # constant background radiance
+      "passes": ["normal", "emit", ...],
+      "keep_objects": false,                   # true: keep the previous render's objects and materials
+      "objects": [{"shape": "sphere"|"torus"|"ellipsoid"|"monkey"|"cube",
+                   "location": [...], "scale": [...], "rotation_deg": [...], "visible_glossy": true,
+                   "material": {operator arguments of bpy.ops.libbrdf.add_material}}]}]}
+
+The sun lamp is rotated, never re-created, between renders, so `keep_objects` renders check that
+the add-on's drivers follow it. Camera: orthographic, Standard view transform, Cycles on the CPU
+with denoising and adaptive sampling off and a 0.01-pixel box filter (each pixel is the shading
+point at its centre: the Normal pass and the colour come from the same point).
+"""
+
+import json
+import math
+import sys
+
+import addon_utils
+import bpy
+import mathutils
+
+ADDON_MODULE = "libbrdf_materials"
+
+
+def install_addon(spec):
+    if "zip" in spec:
+        bpy.ops.preferences.addon_install(filepath=spec["zip"], overwrite=True)
+    else:
+        sys.path.insert(0, spec["path"])
+    addon_utils.enable(ADDON_MODULE, default_set=True, handle_error=None)
+    if ADDON_MODULE not in bpy.context.preferences.addons:
+        raise SystemExit(f"{ADDON_MODULE}: add-on did not enable")
+
+
+def clear_scene():
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj, do_unlink=True)
+    for collection in (bpy.data.meshes, bpy.data.materials, bpy.data.lights, bpy.data.cameras):
+        for block in list(collection):
+            collection.remove(block)
+
+
+def look_rotation(direction):
+    """Rotation whose local +Z axis points along `direction` (lamps shine and cameras look along -Z)."""
+    d = mathutils.Vector(direction).normalized()
+    return d.to_track_quat("Z", "Y").to_euler()
+
+
+def ensure_camera_and_sun(scene):
+    cam = scene.objects.get("libbrdf camera")
+    if cam is None:
+        cam = bpy.data.objects.new("libbrdf camera", bpy.data.cameras.new("libbrdf camera"))
+        scene.collection.objects.link(cam)
+        cam.data.type = "ORTHO"
+        scene.camera = cam
+    sun = scene.objects.get("libbrdf sun")
+    if sun is None:
+        light = bpy.data.lights.new("libbrdf sun", "SUN")
+        sun = bpy.data.objects.new("libbrdf sun", light)
+        scene.collection.objects.link(sun)
+    return cam, sun
+
+
+def add_object(scene, spec):
+    shape = spec["shape"]
+    if shape == "sphere":
+        bpy.ops.mesh.primitive_uv_sphere_add(segments=96, ring_count=48, radius=1.0)
+    elif shape == "ellipsoid":
+        bpy.ops.mesh.primitive_uv_sphere_add(segments=96, ring_count=48, radius=1.0)
+        bpy.context.active_object.scale = (1.0, 0.6, 0.8)
+    elif shape == "torus":
+        bpy.ops.mesh.primitive_torus_add(major_segments=96, minor_segments=48, major_radius=0.75, minor_radius=0.3)
+    elif shape == "monkey":
+        bpy.ops.mesh.primitive_monkey_add(size=1.6)
+        modifier = bpy.context.active_object.modifiers.new("smooth", "SUBSURF")
+        modifier.levels = modifier.render_levels = 2
+    elif shape == "cube":
+        bpy.ops.mesh.primitive_cube_add(size=1.4)
+    else:
+        raise SystemExit(f"shape: unknown {shape!r}")
+    obj = bpy.context.active_object
+    if shape != "cube":
+        bpy.ops.object.shade_smooth()
+    obj.location = spec.get("location", (0.0, 0.0, 0.0))
+    if "scale" in spec:
+        obj.scale = spec["scale"]
+    obj.rotation_euler = [math.radians(a) for a in spec.get("rotation_deg", (0.0, 0.0, 0.0))]
+    obj.visible_glossy = spec.get("visible_glossy", True)  # seen in other objects' glossy reflections
+    bpy.context.view_layer.objects.active = obj
+    result = bpy.ops.libbrdf.add_material(**spec["material"])
+    if result != {"FINISHED"}:
+        raise SystemExit(f"libbrdf.add_material failed for {spec}")
+    return obj
+
+
+def configure_render(scene, r):
+    scene.render.engine = r.get("engine", "CYCLES")
+    scene.render.resolution_x, scene.render.resolution_y = r.get("resolution", (96, 96))
+    scene.render.resolution_percentage = 100
+    scene.render.film_transparent = False
+    scene.view_settings.view_transform = "Standard"
+    scene.view_settings.look = "None"
+    scene.view_settings.exposure = 0.0
+    scene.view_settings.gamma = 1.0
+    if scene.render.engine == "CYCLES":
+        c = scene.cycles
+        c.device = "CPU"
+        c.samples = r.get("samples", 1)
+        c.use_denoising = False
+        c.use_adaptive_sampling = False
+        # Default: each pixel is the shading point at its centre (Normal pass and colour agree);
+        # "filter_width" >= 1 gives Blender's usual antialiased Blackman-Harris filter instead.
+        width = r.get("filter_width", 0.01)
+        c.pixel_filter_type = "BLACKMAN_HARRIS" if width >= 1.0 else "BOX"
+        c.filter_width = width
+        c.seed = 0
+        c.max_bounces = r.get("max_bounces", 4)
+        c.glossy_bounces = r.get("glossy_bounces", 4)
+        c.caustics_reflective = True
+        c.blur_glossy = 0.0
+        c.sample_clamp_direct = 0.0
+        c.sample_clamp_indirect = 0.0
+    else:
+        scene.eevee.taa_render_samples = r.get("samples", 1)
+    layer = scene.view_layers[0]
+    passes = set(r.get("passes", ()))
+    layer.use_pass_normal = "normal" in passes
+    layer.use_pass_emit = "emit" in passes
+    layer.use_pass_glossy_direct = layer.use_pass_glossy_indirect = "glossy" in passes
+    settings = scene.render.image_settings
+    settings.file_format = "OPEN_EXR_MULTILAYER"
+    settings.color_depth = "32"
+    settings.exr_codec = "ZIP"
+
+
+def set_world(scene, rgb):
+    world = scene.world or bpy.data.worlds.new("libbrdf world")
+    scene.world = world
+    world.use_nodes = True
+    background = next(n for n in world.node_tree.nodes if n.bl_idname == "ShaderNodeBackground")
+    background.inputs["Color"].default_value = (*rgb, 1.0)
+    background.inputs["Strength"].default_value = 1.0
+
+
+def main():
+    job_path = sys.argv[sys.argv.index("--") + 1]
+    with open(job_path, encoding="utf-8") as f:
+        job = json.load(f)
+    install_addon(job["addon"])
+    scene = bpy.context.scene
+    clear_scene()
+    results = []
+    for r in job["renders"]:
+        cam, sun = ensure_camera_and_sun(scene)
+        sun.rotation_euler = look_rotation(r["sun"]["direction"])
+        sun.data.energy = r["sun"].get("strength", 1.0)
+        sun.data.color = r["sun"].get("color", (1.0, 1.0, 1.0))
+        sun.data.angle = math.radians(r["sun"].get("angle_deg", 0.0))
+        camera_direction = mathutils.Vector(r["camera"]["direction"]).normalized()
+        cam.location = camera_direction * 10.0
+        cam.rotation_euler = look_rotation(camera_direction)
+        cam.data.ortho_scale = r["camera"].get("ortho_scale", 2.4)
+        cam.data.clip_end = 100.0
+        set_world(scene, r.get("world", (0.0, 0.0, 0.0)))
+        configure_render(scene, r)
+        if not r.get("keep_objects", False):
+            for obj in [o for o in scene.objects if o.type == "MESH"]:
+                bpy.data.objects.remove(obj, do_unlink=True)
+            for spec in r["objects"]:
+                add_object(scene, spec)
+        bpy.context.view_layer.update()
+        scene.render.filepath = r["output"]
+        bpy.ops.render.render(write_still=True)
+
+        # What the materials saw (driver values after evaluation) and where their tables are.
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        materials = []
+        for obj in [o for o in scene.objects if o.type == "MESH"]:
+            mat = obj.active_material
+            group = mat.node_tree.nodes.get("libbrdf")
+            evaluated = mat.evaluated_get(depsgraph).node_tree.nodes.get("libbrdf")
+            materials.append({
+                "object": obj.name,
+                "material": mat.name,
+                "node_group": group.node_tree.name,
+                "node_count": len(group.node_tree.nodes),
+                "light_direction": list(evaluated.inputs["Light Direction"].default_value),
+                "sun_strength": evaluated.inputs["Sun Strength"].default_value,
+                "description": group.node_tree.get("libbrdf_description", ""),
+            })
+        results.append({
+            "output": r["output"],
+            "camera_direction": list(cam.matrix_world.col[2].xyz.normalized()),
+            "sun_direction": list(sun.matrix_world.col[2].xyz.normalized()),
+            "sun_strength": sun.data.energy,
+            "sun_color": list(sun.data.color),
+            "materials": materials,
+            "blender": bpy.app.version_string,
+            "addon_file": sys.modules[ADDON_MODULE].__file__,
+        })
+    with open(job["results"], "w", encoding="utf-8") as f:
+        json.dump(results, f, indent=2)
+
+
+main()

@@ -1,0 +1,96 @@
+#!/usr/bin/python3
+"""Plot of `brdf bench`: speed against error, one panel per surface.
+
+usage: /usr/bin/python3 tools/plot_bench.py bench.csv bench.png
+
+x: evaluations (or table lookups) per second relative to the reference series of the same model
+(tolerance 0, every term), measured in the same run; y: relative error against that reference
+(filled marker: max; hollow marker joined to it: rms). Rows with no error (the references, and
+models whose reference is themselves) sit on the "exact" line at the bottom.
+"""
+import csv
+import math
+import os
+import sys
+import textwrap
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+EXACT = 1e-9  # where error 0 is drawn
+TOP = 1e2  # larger errors are drawn here, off scale, with their value
+COLORS = {"model": "#1f77b4", "fast_path": "#ff7f0e", "lut": "#2ca02c"}
+LUT_MARKERS = {"rusinkiewicz": "s", "merl": "D", "slice": "^"}
+SHORT_VARIANT = {"auto regime tol 1e-6 (default)": "auto 1e-6", "auto regime tol 1e-3": "auto 1e-3",
+                 "series strided (tol 0)": "strided", "closed form eq. 14": "", "closed form eq. 15": "",
+                 "k-mode tis (vs plane)": "K tis", "default": "", "reference": "ref"}
+
+
+def label(row):
+    if row["kind"] == "lut":
+        shape = row["shape"].replace("x", "\u00d7")
+        if row["model"] != "mbk":
+            return f"{row['model']} table"
+        return "mbk MERL" if row["layout"] == "merl" else f"mbk {row['layout'][:5]}. {shape}"
+    variant = SHORT_VARIANT.get(row["variant"], row["variant"])
+    return f"{row['model']} {variant}".strip()
+
+
+def main():
+    if len(sys.argv) != 3:
+        sys.exit(__doc__)
+    with open(sys.argv[1], newline="") as f:
+        rows = list(csv.DictReader(f))
+    if not rows:
+        sys.exit("plot_bench: no rows in " + sys.argv[1])
+    surfaces = list(dict.fromkeys(r["surface"] for r in rows))
+    fig, axes = plt.subplots(1, len(surfaces), figsize=(6.4 * len(surfaces), 7.0), sharey=True, squeeze=False)
+    for ax, surface in zip(axes[0], surfaces):
+        exact = []
+        for row in (r for r in rows if r["surface"] == surface):
+            x = float(row["speed_ratio"])
+            e_max, e_rms = float(row["max_rel_error"]), float(row["rms_rel_error"])
+            color = COLORS.get(row["kind"], "gray")
+            marker = LUT_MARKERS.get(row["layout"], "o") if row["kind"] == "lut" else "o"
+            if e_max == 0.0:
+                exact.append(label(row))
+                ax.scatter([x], [EXACT], color=color, marker=marker, s=30, zorder=3, edgecolor="black", linewidth=0.4)
+                continue
+            text = label(row)
+            if e_max > TOP:
+                text += f" ({e_max:.0e}, off scale)"
+                marker = "^" if row["kind"] != "lut" else marker
+            y_max, y_rms = min(e_max, TOP), min(max(e_rms, EXACT), TOP)
+            ax.plot([x, x], [y_rms, y_max], color=color, lw=0.8, alpha=0.6)
+            ax.scatter([x], [y_max], color=color, marker=marker, s=36, zorder=3, edgecolor="black", linewidth=0.4)
+            ax.scatter([x], [y_rms], facecolor="none", edgecolor=color, marker=marker, s=18, zorder=3)
+            ax.annotate(text, (x, y_max), textcoords="offset points", xytext=(4, 3), fontsize=6.5, color="#333333")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_ylim(EXACT / 30, TOP * 4)
+        ax.axhline(EXACT, color="gray", lw=0.6, ls=":")
+        ax.axhline(TOP, color="gray", lw=0.6, ls=":")
+        ax.text(0.02, 0.012, textwrap.fill("error 0 (bit-identical to the reference): " + ", ".join(exact), 70),
+                transform=ax.transAxes, fontsize=6.5, color="#555555", va="bottom")
+        for target in (1e-2, 1e-3):
+            ax.axhline(target, color="gray", lw=0.5, ls="--")
+        ax.set_xlabel("speed relative to the reference series (same run)")
+        ax.set_title(f"{surface} Au, \u03bb = 0.55 \u00b5m")
+        ax.grid(True, which="major", alpha=0.3)
+    axes[0][0].set_ylabel("relative error vs reference (filled: max, hollow: rms)")
+    handles = [plt.Line2D([], [], color=c, marker="o", ls="", label=k.replace("_", " ")) for k, c in COLORS.items()]
+    handles += [plt.Line2D([], [], color=COLORS["lut"], marker=m, ls="", label=f"table: {k}") for k, m in LUT_MARKERS.items()]
+    fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=8, frameon=False)
+    tables = sorted({r["shape"] for r in rows if r["kind"] == "lut" and r["model"] != "mbk"})
+    fig.suptitle("brdf bench: speed against error (dashed: 1e-2 and 1e-3). \"<model> table\": rusinkiewicz "
+                 + ", ".join(tables) + " of that model's default evaluation", fontsize=10)
+    fig.tight_layout(rect=(0, 0.05, 1, 0.96))
+    tmp = sys.argv[2] + ".tmp.png"
+    fig.savefig(tmp, dpi=130)
+    os.replace(tmp, sys.argv[2])
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,211 @@
+#!/usr/bin/python3
+"""Blender comparison of the paper's models, polished to rough, side by side.
+
+    render_blender_comparison.py --brdf BRDF_EXE --out DIR [--small] [--blender BLENDER]
+                                 [--material Au] [--lc 2.0]
+
+Renders (Blender headless, Cycles CPU) one sphere per model and roughness with the libbrdf add-on
+(blender_addon/libbrdf_materials, installed into a temporary user folder), each model baked into a
+table (LUT mode: the BRDF lit by one sun, emitted, plus the specular spike as a mirror lobe that
+reflects a uniform grey sky): rows MBK, original BK, modified BK and the mapped microfacet model;
+columns sigma_s/lambda from 0.002 to 0.5 (lambda = 0.55 um, the green channel).
+Writes
+  DIR/blender_comparison.png   the renders, one global exposure, x/(1+x) tone curve, sRGB
+  DIR/blender_difference.png   |L - L_mbk| / L_mbk per pixel (luminance), log colour scale
+  DIR/blender_comparison.json  per cell: median and 90th-percentile relative difference to MBK
+  DIR/blender_comparison.exr   the raw render (multilayer EXR)
+Needs Debian's python3 (numpy, matplotlib, OpenImageIO).
+"""
+
+import argparse
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import zipfile
+
+import numpy as np
+import OpenImageIO as oiio
+
+ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+ROWS = (("mbk", "MBK (eq. 11, K)"), ("bk", "BK original (eq. 26)"), ("bk-modified", "BK modified (eq. 28)"),
+        ("microfacet", "microfacet, mapped (eqs 20/25)"))
+LAMBDA_UM = 0.55
+SIGMA_OVER_LAMBDA = (0.002, 0.01, 0.05, 0.15, 0.5)
+SIGMA_OVER_LAMBDA_SMALL = (0.002, 0.05, 0.5)
+SPACING = 2.2          # scene units between sphere centres (radius 1)
+# A uniform grey sky, seen through the specular spike's mirror lobe (LUT mode lights the BRDF
+# itself by the sun alone), and a sun of angle 0 (no glint sampling noise).
+WORLD = (0.1, 0.1, 0.1)
+SUN = {"direction": [0.45, -1.0, 0.55], "strength": 3.0, "color": [1.0, 1.0, 1.0], "angle_deg": 0.0}
+
+
+def addon_zip(directory):
+    path = os.path.join(directory, "libbrdf_materials.zip")
+    source = os.path.join(ROOT, "blender_addon", "libbrdf_materials")
+    with zipfile.ZipFile(path, "w") as z:
+        for name in sorted(os.listdir(source)):
+            if name.endswith((".py", ".toml")):
+                z.write(os.path.join(source, name), f"libbrdf_materials/{name}")
+    return path
+
+
+def build_job(args, work, columns, cell):
+    objects = []
+    for r, (model, _) in enumerate(ROWS):
+        for c, ratio in enumerate(columns):
+            material = {"model": model, "material": args.material, "sigma_s": ratio * LAMBDA_UM, "lc": args.lc,
+                        "mode": "LUT", "resolution": list(args.resolution)}
+            x = (c - (len(columns) - 1) / 2) * SPACING
+            z = ((len(ROWS) - 1) / 2 - r) * SPACING
+            # Not seen in the other spheres' mirror lobes: each cell shows one model alone.
+            objects.append({"shape": "sphere", "location": [x, 0.0, z], "material": material,
+                            "visible_glossy": False})
+    output = os.path.join(work, "comparison.exr")
+    render = {"output": output, "resolution": [len(columns) * cell, len(ROWS) * cell], "samples": args.samples,
+              "engine": "CYCLES", "camera": {"direction": [0.0, -1.0, 0.0], "ortho_scale": max(len(columns), len(ROWS)) * SPACING},
+              "filter_width": 1.5, "sun": SUN, "world": list(WORLD), "passes": [], "objects": objects}
+    return {"addon": {"zip": addon_zip(work)}, "results": os.path.join(work, "results.json"), "renders": [render]}
+
+
+def read_combined(path):
+    buf = oiio.ImageBuf(path)
+    spec = buf.spec()
+    pixels = buf.get_pixels(oiio.FLOAT).reshape(spec.height, spec.width, spec.nchannels)
+    index = [spec.channelnames.index(f"ViewLayer.Combined.{c}") for c in "RGB"]
+    return pixels[:, :, index]
+
+
+def cells(image, rows, columns, cell):
+    return [[image[r * cell:(r + 1) * cell, c * cell:(c + 1) * cell] for c in range(columns)] for r in range(rows)]
+
+
+def sphere_mask(cell):
+    y, x = np.mgrid[0:cell, 0:cell] + 0.5
+    radius = cell / SPACING  # sphere radius 1 in a SPACING-wide cell
+    return (x - cell / 2) ** 2 + (y - cell / 2) ** 2 < (0.97 * radius) ** 2
+
+
+def srgb(x):
+    x = np.clip(x, 0.0, 1.0)
+    return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
+
+
+def figures(image, columns, cell, out, args):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import LogNorm
+
+    grid = cells(image, len(ROWS), len(columns), cell)
+    mask = sphere_mask(cell)
+    luminance = image @ np.array([0.2126, 0.7152, 0.0722])
+    exposure = 1.0 / np.percentile(luminance[luminance > 0], 99.0)
+    title = (f"{args.material}, l_c = {args.lc:g} um, sun {SUN['strength']:g} W/m^2, grey sky {WORLD[0]:g}; "
+             f"RGB = 0.65/0.55/0.45 um; exposure x{exposure:.3g}, x/(1+x)")
+
+    def label_axes(fig, axes):
+        for c, ratio in enumerate(columns):
+            axes[0][c].set_title(f"sigma_s/lambda = {ratio:g}\n(sigma_s = {ratio * LAMBDA_UM:.4g} um)", fontsize=9)
+        for r, (_, name) in enumerate(ROWS):
+            axes[r][0].set_ylabel(name, fontsize=9)
+        for a in np.ravel(axes):
+            a.set_xticks([])
+            a.set_yticks([])
+
+    fig, axes = plt.subplots(len(ROWS), len(columns), figsize=(2.2 * len(columns) + 1.2, 2.2 * len(ROWS) + 0.8),
+                             squeeze=False)
+    for r in range(len(ROWS)):
+        for c in range(len(columns)):
+            x = grid[r][c] * exposure
+            axes[r][c].imshow(srgb(x / (1.0 + x)))
+    label_axes(fig, axes)
+    fig.suptitle("libbrdf in Blender (Cycles, LUT mode)\n" + title, fontsize=9)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "blender_comparison.png"), dpi=110)
+    plt.close(fig)
+
+    summary = {"exposure": exposure, "columns_sigma_over_lambda": list(columns), "cells": []}
+    fig, axes = plt.subplots(len(ROWS), len(columns), figsize=(2.2 * len(columns) + 2.0, 2.2 * len(ROWS) + 0.8),
+                             squeeze=False)
+    norm = LogNorm(vmin=1e-3, vmax=10.0)
+    shown = None
+    for r, (model, name) in enumerate(ROWS):
+        for c in range(len(columns)):
+            ref = grid[0][c] @ np.array([0.2126, 0.7152, 0.0722])
+            cur = grid[r][c] @ np.array([0.2126, 0.7152, 0.0722])
+            floor = 1e-3 * ref[mask].max()
+            rel = np.abs(cur - ref) / np.maximum(ref, floor)
+            rel = np.where(mask, np.maximum(rel, 1e-4), np.nan)
+            shown = axes[r][c].imshow(rel, norm=norm, cmap="magma")
+            above = mask & (ref > 1e-2 * ref[mask].max())
+            median, p90 = float(np.median(rel[above])), float(np.percentile(rel[above], 90))
+            if r > 0:
+                axes[r][c].text(0.03, 0.03, f"median {median:.2f}", transform=axes[r][c].transAxes, color="w", fontsize=7)
+            summary["cells"].append({"model": model, "sigma_over_lambda": columns[c], "median_relative": median,
+                                     "p90_relative": p90})
+    label_axes(fig, axes)
+    fig.colorbar(shown, ax=axes, fraction=0.03, label="|L - L_mbk| / L_mbk  (luminance)")
+    fig.suptitle("Difference to MBK per pixel (first row: MBK itself)", fontsize=9)
+    fig.savefig(os.path.join(out, "blender_difference.png"), dpi=110)
+    plt.close(fig)
+    with open(os.path.join(out, "blender_comparison.json"), "w", encoding="utf-8") as f:
+        json.dump(summary, f, indent=1)
+    return summary
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--brdf", required=True, help="the brdf executable")
+    parser.add_argument("--out", required=True, help="output folder")
+    parser.add_argument("--small", action="store_true", help="3 roughness columns, small cells, coarser tables")
+    parser.add_argument("--blender", default=shutil.which("blender") or "blender")
+    parser.add_argument("--material", default="Au", help="built-in material (default Au)")
+    parser.add_argument("--lc", type=float, default=2.0, help="correlation length l_c in um (default 2)")
+    args = parser.parse_args()
+    columns = SIGMA_OVER_LAMBDA_SMALL if args.small else SIGMA_OVER_LAMBDA
+    cell = 96 if args.small else 160
+    args.resolution = (96, 48, 32) if args.small else (128, 64, 48)
+    args.samples = 4 if args.small else 16  # antialiasing (1.5-pixel filter); LUT shading is noise-free
+    brdf = os.path.abspath(args.brdf)
+    if not (os.path.isfile(brdf) and os.access(brdf, os.X_OK)):
+        print(f"render_blender_comparison: error: brdf: {brdf} is not an executable file", file=sys.stderr)
+        return 2
+    os.makedirs(args.out, exist_ok=True)
+    work = tempfile.mkdtemp(prefix="libbrdf_blender_comparison_")
+    try:
+        job = build_job(args, work, columns, cell)
+        job_path = os.path.join(work, "job.json")
+        with open(job_path, "w", encoding="utf-8") as f:
+            json.dump(job, f, indent=1)
+        env = dict(os.environ, LIBBRDF_BRDF_EXE=brdf, BLENDER_USER_SCRIPTS=os.path.join(work, "scripts"),
+                   BLENDER_USER_CONFIG=os.path.join(work, "config"), TMPDIR=work)
+        done = subprocess.run([args.blender, "-b", "--factory-startup", "--python-exit-code", "1", "--python",
+                               os.path.join(ROOT, "tools", "blender_render_job.py"), "--", job_path],
+                              env=env, capture_output=True, text=True)
+        output = job["renders"][0]["output"]
+        if done.returncode != 0 or not os.path.isfile(output):
+            print((done.stdout + done.stderr)[-3000:], file=sys.stderr)
+            print(f"render_blender_comparison: error: blender failed (exit {done.returncode})", file=sys.stderr)
+            return 1
+        image = read_combined(output)
+        if not np.all(np.isfinite(image)):
+            print("render_blender_comparison: error: the render has non-finite pixels", file=sys.stderr)
+            return 1
+        shutil.copyfile(output, os.path.join(args.out, "blender_comparison.exr"))
+        summary = figures(image, columns, cell, args.out, args)
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+    for cell_summary in summary["cells"]:
+        if cell_summary["model"] != "mbk":
+            print(f"{cell_summary['model']:>12} sigma_s/lambda {cell_summary['sigma_over_lambda']:<6g} "
+                  f"median |L - L_mbk|/L_mbk {cell_summary['median_relative']:.3f}  p90 {cell_summary['p90_relative']:.3f}")
+    print(os.path.join(args.out, "blender_comparison.png"))
+    print(os.path.join(args.out, "blender_difference.png"))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

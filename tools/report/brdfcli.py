@@ -1,0 +1,98 @@
+"""Thin wrapper around the `brdf` command-line tool for the report scripts.
+
+Every number in the report comes from `brdf eval` (no physics is re-implemented here): queries
+(theta_i, theta_s, phi_s in degrees) go to `brdf eval --queries -` as CSV on stdin, in one batch
+per call, and the values come back as CSV `theta_i,theta_s,phi_s,value`.
+"""
+import io
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+
+REPORT_DIR = os.path.dirname(os.path.abspath(__file__))
+MATERIALS_FILE = os.path.join(REPORT_DIR, "materials.json")
+
+# Python keyword -> `brdf eval` option.
+_OPTIONS = {
+    "material": "--material", "n": "--n", "k": "--k", "sigma_s": "--sigma-s", "lc": "--lc",
+    "wavelength": "--wavelength", "sigma_g": "--sigma-g", "rho_s": "--rho-s", "rho_d": "--rho-d",
+    "g_term": "--g-term", "k_mode": "--k-mode", "sigma_g_mapping": "--sigma-g-mapping",
+    "tolerance": "--tolerance",
+}
+
+
+class BrdfError(RuntimeError):
+    pass
+
+
+def progress(message):
+    """One line of sub-progress on stderr (run.sh shows the latest one beside the stage)."""
+    print(message, file=sys.stderr, flush=True)
+
+
+def cli_options(**params):
+    args = []
+    for key, value in params.items():
+        if value is None:
+            continue
+        if key not in _OPTIONS:
+            raise KeyError(f"unknown brdf option {key!r}")
+        args += [_OPTIONS[key], f"{value:.17g}" if isinstance(value, float) else str(value)]
+    return args
+
+
+def evaluate(brdf, model, theta_i, theta_s, phi_s, **params):
+    """Evaluates `model` at the broadcast arrays of angles (degrees); returns values of that shape.
+
+    Raises BrdfError (with the command and its stderr) when brdf fails or returns a non-finite value.
+    """
+    ti, ts, ps = np.broadcast_arrays(np.asarray(theta_i, float), np.asarray(theta_s, float), np.asarray(phi_s, float))
+    shape = ti.shape
+    queries = np.column_stack([ti.ravel(), ts.ravel(), ps.ravel()])
+    buffer = io.StringIO()
+    np.savetxt(buffer, queries, fmt="%.12g", delimiter=",")
+    command = [brdf, "eval", "--model", model, *cli_options(**params), "--queries", "-"]
+    run = subprocess.run(command, input=buffer.getvalue(), capture_output=True, text=True)
+    if run.returncode != 0:
+        raise BrdfError(f"{' '.join(command)} failed ({run.returncode}): {run.stderr.strip()}")
+    table = np.loadtxt(io.StringIO(run.stdout), delimiter=",", skiprows=1, ndmin=2)
+    if table.shape != (queries.shape[0], 4):
+        raise BrdfError(f"{' '.join(command)}: expected {queries.shape[0]} rows of 4 columns, got {table.shape}")
+    if not np.allclose(table[:, :3], queries, rtol=0, atol=1e-9):
+        raise BrdfError(f"{' '.join(command)}: rows came back out of order")
+    values = table[:, 3]
+    if not np.all(np.isfinite(values)):
+        bad = queries[~np.isfinite(values)][0]
+        raise BrdfError(f"{' '.join(command)}: non-finite value at theta_i,theta_s,phi_s = {bad.tolist()}")
+    return values.reshape(shape)
+
+
+def load_materials(path=MATERIALS_FILE):
+    """The default material set; adds sigma_s_um = sigma_over_lambda x design wavelength."""
+    with open(path) as f:
+        config = json.load(f)
+    lam = config["design_wavelength_um"]
+    for s in config["surfaces"]:
+        s["sigma_s_um"] = s["sigma_over_lambda"] * lam
+    return config
+
+
+def surface_params(surface, wavelength):
+    return dict(material=surface["material"], sigma_s=surface["sigma_s_um"], lc=surface["lc_um"],
+                wavelength=wavelength)
+
+
+# The paper's regime thresholds on g (Krywonos, quoted in section 2.2 of the paper).
+G_POLISHED = 0.025
+G_VERY_ROUGH = 800.0
+
+
+def regime(g):
+    if g < G_POLISHED:
+        return "polished"
+    if g > G_VERY_ROUGH:
+        return "very rough"
+    return "intermediate"

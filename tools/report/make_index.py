@@ -1,0 +1,239 @@
+#!/usr/bin/python3
+"""Writes the main job's report page, index.html, into the report directory.
+
+It shows every figure with a one-line caption, the tables (CSV files of the other stages) as HTML
+tables, and the time of each stage (timings.csv, written by run.sh). A missing file is shown as
+missing, with the status of the stage that should have made it. `promised_files()` lists what a
+complete report holds (the main-job test checks that list).
+"""
+import argparse
+import csv
+import datetime
+import html
+import os
+import platform
+import subprocess
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import brdfcli  # noqa: E402
+
+# (stage name in run.sh's logs, path in the report, one-line caption)
+FIG2 = [("fig2", "fig2.png",
+         "The paper's Fig. 2 reproduced: R_d = |2F/Q − S|/(2F/Q) (eq. 23) over the hemisphere for five indices "
+         "(rows) at θi = 15, 30, 45, 60° (columns); 0 at the specular point ★, growing towards grazing.")]
+MODEL_FIGURES = [
+    ("models", "models_overview.png",
+     "mbk in the plane of incidence at θi = 30° for every surface: the lobe widens from polished to very rough "
+     "while the specular spike R_spec fades."),
+    ("models", "models_hemisphere.png",
+     "All six models over the scattered hemisphere at θi = 30° (rows: surfaces; log colour per row)."),
+]
+RENDERS = [
+    ("povray", "renders/povray_comparison.png",
+     "POV-Ray: mbk, bk, bk-modified and the mapped microfacet model (columns) on gold spheres of the default "
+     "set from polished to rough (rows)."),
+    ("povray", "renders/povray_difference.png",
+     "POV-Ray: per-pixel difference of bk, bk-modified and microfacet against mbk."),
+    ("blender", "renders/blender_comparison.png",
+     "Blender (Cycles): mbk, bk, bk-modified and the mapped microfacet model (rows) on gold spheres of the "
+     "default set from polished to rough (columns)."),
+    ("blender", "renders/blender_difference.png",
+     "Blender: per-pixel difference of bk, bk-modified and microfacet against mbk."),
+]
+BENCH = [("bench", "bench.png", "Speed against error of every fast path (brdf bench --quick): time per "
+          "evaluation against the relative error to the reference series.")]
+TABLES = {"surfaces": ("models", "surfaces.csv"), "bakes": ("bake", "bakes/bakes.csv"),
+          "fig2": ("fig2", "fig2_summary.csv"), "bench": ("bench", "bench.csv")}
+
+
+def surface_figures(config):
+    return [("models", f"models_{s['name']}.png",
+             f"{s['name']} ({s['material']}, σs/λ = {s['sigma_over_lambda']:g}, l_c = {s['lc_um']:g} µm): "
+             "in-plane BRDF of every model (log axis, regimes of g shaded) and polar lobes at θi = 30° and 60°.")
+            for s in config["surfaces"]]
+
+
+def promised_files(materials=brdfcli.MATERIALS_FILE):
+    """Every file a complete report holds, relative to the report directory."""
+    config = brdfcli.load_materials(materials)
+    files = ["index.html", "timings.csv", "fig2_rd.npz"]
+    files += [p for _, p, _ in FIG2 + MODEL_FIGURES + surface_figures(config) + RENDERS + BENCH]
+    files += [p for _, p in TABLES.values()]
+    files += [f"bakes/{s['name']}.exr" for s in config["surfaces"]]
+    return files
+
+
+CSS = """
+body { font-family: system-ui, sans-serif; max-width: 1500px; margin: 1.5em auto; padding: 0 1em; color: #222; }
+h1 { margin-bottom: 0.2em; } h2 { border-bottom: 1px solid #ccc; padding-bottom: 0.2em; margin-top: 2em; }
+.meta { color: #555; }
+figure { margin: 1.2em 0; } figure img { max-width: 100%; border: 1px solid #ddd; }
+figcaption { color: #333; font-size: 0.95em; margin-top: 0.3em; }
+table { border-collapse: collapse; font-size: 0.85em; margin: 0.6em 0; }
+th, td { border: 1px solid #ccc; padding: 0.2em 0.5em; text-align: right; }
+th { background: #f0f0f0; } td.l, th.l { text-align: left; }
+.missing { color: #b00; border: 1px dashed #b00; padding: 0.6em; margin: 1em 0; }
+.ok { color: #070; } .failed { color: #b00; font-weight: bold; } .skipped { color: #777; }
+details { margin: 0.6em 0; }
+"""
+
+
+def read_csv(path):
+    with open(path, newline="") as f:
+        return list(csv.reader(f))
+
+
+class Page:
+    def __init__(self, out, stages):
+        self.out = out
+        self.stages = stages   # stage name -> status text
+        self.parts = []
+
+    def add(self, text):
+        self.parts.append(text)
+
+    def missing(self, stage, path):
+        status = self.stages.get(stage, "not run")
+        self.add(f'<div class="missing">missing: <code>{html.escape(path)}</code> '
+                 f'(stage <b>{html.escape(stage)}</b>: {html.escape(status)})</div>')
+
+    def figure(self, stage, path, caption):
+        if os.path.isfile(os.path.join(self.out, path)):
+            self.add(f'<figure><a href="{html.escape(path)}"><img src="{html.escape(path)}" alt="{html.escape(path)}">'
+                     f'</a><figcaption>{html.escape(caption)}</figcaption></figure>')
+        else:
+            self.missing(stage, path)
+
+    def table(self, stage, path, caption, collapsed=False, long_rows=40):
+        full = os.path.join(self.out, path)
+        if not os.path.isfile(full):
+            self.missing(stage, path)
+            return
+        rows = read_csv(full)
+        if not rows:
+            self.missing(stage, path + " (empty)")
+            return
+        cells = ["<table><tr>" + "".join(f'<th class="l">{html.escape(h)}</th>' for h in rows[0]) + "</tr>"]
+        for r in rows[1:]:
+            cells.append("<tr>" + "".join(
+                f'<td class="{"l" if not _is_number(c) else ""}">{html.escape(c)}</td>' for c in r) + "</tr>")
+        cells.append("</table>")
+        body = "".join(cells)
+        link = f' (<a href="{html.escape(path)}">{html.escape(os.path.basename(path))}</a>)'
+        if collapsed or len(rows) > long_rows:
+            state = "" if collapsed else " open"
+            self.add(f"<details{state}><summary>{html.escape(caption)}{link}</summary>{body}</details>")
+        else:
+            self.add(f"<p>{html.escape(caption)}{link}</p>{body}")
+
+
+def _is_number(text):
+    try:
+        float(text)
+        return True
+    except ValueError:
+        return False
+
+
+def stage_statuses(out):
+    path = os.path.join(out, "timings.csv")
+    if not os.path.isfile(path):
+        return {}, []
+    rows = read_csv(path)[1:]
+    statuses = {}
+    for r in rows:
+        name = os.path.basename(r[4])[3:-4] if r[4] else ""
+        statuses[name] = r[2]
+    return statuses, rows
+
+
+def timing_table(rows):
+    total = sum(float(r[3]) for r in rows)
+    lines = ['<table><tr><th>#</th><th class="l">stage</th><th class="l">status</th><th>time [s]</th>'
+             '<th class="l">log</th></tr>']
+    for number, title, status, seconds, log in rows:
+        cls = "ok" if status == "ok" else ("skipped" if status.startswith("skipped") else "failed")
+        log_cell = f'<a href="{html.escape(log)}">{html.escape(os.path.basename(log))}</a>' if log else ""
+        lines.append(f'<tr><td>{number}</td><td class="l">{html.escape(title)}</td>'
+                     f'<td class="l {cls}">{html.escape(status)}</td><td>{float(seconds):.1f}</td>'
+                     f'<td class="l">{log_cell}</td></tr>')
+    lines.append(f'<tr><th></th><th class="l">total</th><th></th><th>{total:.1f}</th><th></th></tr></table>')
+    return "".join(lines), total
+
+
+def brdf_version(brdf):
+    try:
+        return subprocess.run([brdf, "--version"], capture_output=True, text=True, timeout=30).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        return "unknown"
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--out", required=True, help="report directory")
+    parser.add_argument("--brdf", default="brdf", help="brdf executable (for its version)")
+    parser.add_argument("--small", action="store_true", help="the job ran at reduced size")
+    parser.add_argument("--materials", default=brdfcli.MATERIALS_FILE)
+    args = parser.parse_args()
+    config = brdfcli.load_materials(args.materials)
+    statuses, timing_rows = stage_statuses(args.out)
+    page = Page(args.out, statuses)
+    timing_html, total = timing_table(timing_rows) if timing_rows else ("<p>no timings.csv</p>", 0.0)
+
+    mode = "reduced size (--small)" if args.small else "full size"
+    now = datetime.datetime.now().strftime("%Y-%m-%d %H:%M")
+    page.add(f"<h1>libbrdf main job report</h1><p class='meta'>{now}; {html.escape(mode)}; "
+             f"brdf {html.escape(brdf_version(args.brdf))}; {html.escape(platform.node())}, {os.cpu_count()} cores; "
+             f"job time {total:.0f} s. Models: Butler, Nauyoks &amp; Marciniak, Opt. Express 23, 29100 (2015). "
+             f"Angles in degrees (φs = 180° is in-plane forward scatter), lengths in µm, BRDFs in 1/sr.</p>")
+    page.add("<p>Contents: <a href='#stages'>stages</a> · <a href='#materials'>materials and bakes</a> · "
+             "<a href='#fig2'>Fig. 2</a> · <a href='#models'>models</a> · <a href='#bench'>speed vs error</a> · "
+             "<a href='#renders'>renders</a></p>")
+
+    page.add("<h2 id='stages'>Stages and timings</h2>")
+    page.add(f"<p>Each stage of <code>run.sh</code>, its status and wall time (logs beside this page).</p>{timing_html}")
+
+    page.add("<h2 id='materials'>Materials and bakes</h2>")
+    page.table(*TABLES["surfaces"],
+               f"The default material set at λ = {config['design_wavelength_um']:g} µm: g at specular, the paper's "
+               f"regime (g < {brdfcli.G_POLISHED:g} polished, g > {brdfcli.G_VERY_ROUGH:g} very rough), K and the "
+               "specular spike R_spec at θi = 30° and 60°.")
+    page.table(*TABLES["bakes"], "The baked tables (mbk, Rusinkiewicz layout, R/G/B = "
+               + ", ".join(f"{w:g}" for w in config["bake_wavelengths_um"])
+               + " µm) with the error the bake measured against direct evaluation.")
+
+    page.add("<h2 id='fig2'>Fig. 2: R_d between 2F/Q and S</h2>")
+    for item in FIG2:
+        page.figure(*item)
+    page.table(*TABLES["fig2"], "Per map: R_d at specular, mean R_d over the inner (θs ≤ 20°) and outer "
+               "(θs ≥ 70°) rings, and the maximum.", collapsed=True)
+
+    page.add("<h2 id='models'>The models per surface</h2>")
+    for item in MODEL_FIGURES + surface_figures(config):
+        page.figure(*item)
+
+    page.add("<h2 id='bench'>Speed against error</h2>")
+    for item in BENCH:
+        page.figure(*item)
+    page.table(*TABLES["bench"], "brdf bench --quick: every fast path's speed and its error against the "
+               "reference.")
+
+    page.add("<h2 id='renders'>Renders</h2>")
+    for item in RENDERS:
+        page.figure(*item)
+
+    text = ("<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>libbrdf main job report</title>"
+            f"<style>{CSS}</style></head><body>" + "\n".join(page.parts) + "</body></html>\n")
+    tmp = os.path.join(args.out, "index.html.tmp")
+    with open(tmp, "w", encoding="utf-8") as f:
+        f.write(text)
+    os.replace(tmp, os.path.join(args.out, "index.html"))
+    missing = [p for p in promised_files(args.materials) if not os.path.isfile(os.path.join(args.out, p))
+               and p != "index.html"]
+    if missing:
+        print(f"index.html written; {len(missing)} promised file(s) missing: {', '.join(missing)}", file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()
