@@ -1,8 +1,6 @@
 // Blender export: the atlas image, the microfacet fit and the JSON description (blender.h).
 #include "exporters/blender.h"
 
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -14,25 +12,12 @@
 
 #include "libbrdf/error.h"
 #include "libbrdf/fresnel.h"
+#include "libbrdf/image_file.h"
 #include "libbrdf/version.h"
 
 namespace libbrdf::blender {
 
 namespace {
-
-// Temporary name beside `path` (same directory, so that the rename stays on one file system).
-std::string temporary_beside(const std::string& path, const std::string& suffix) {
-  return path + ".tmp" + std::to_string(::getpid()) + suffix;
-}
-
-void rename_or_throw(const std::string& from, const std::string& to) {
-  std::error_code ec;
-  std::filesystem::rename(from, to, ec);
-  if (ec) {
-    std::filesystem::remove(from, ec);
-    throw std::runtime_error(to + ": cannot write (" + ec.message() + ")");
-  }
-}
 
 int channel_of_rgb(const Lut& lut, int rgb) { return lut.channels() == 1 ? 0 : rgb; }
 
@@ -103,37 +88,26 @@ std::vector<float> blender_atlas_texels(const Lut& lut, const BlenderAtlas& a) {
 
 void write_blender_atlas_exr(const Lut& lut, const BlenderAtlas& a, const std::string& path) {
   const std::vector<float> texels = blender_atlas_texels(lut, a);
-  OIIO::ImageSpec spec(a.width, a.height, 3, OIIO::TypeDesc::FLOAT);
-  spec.attribute("compression", "zip");
-  spec.attribute("libbrdf:format", "blender-atlas");
-  spec.attribute("libbrdf:version", kVersion);
-  spec.attribute("libbrdf:layout", "rusinkiewicz");
-  spec.attribute("libbrdf:shape", std::to_string(a.shape[0]) + "x" + std::to_string(a.shape[1]) + "x" + std::to_string(a.shape[2]));
-  spec.attribute("libbrdf:atlas", atlas_layout_text(a));
-  spec.attribute("libbrdf:axis_mapping",
-                 "theta_h = (pi/2)(i0/(N0-1))^2, theta_d = (pi/2) i1/(N1-1), phi_d = pi k/(N2-1) (MERL's half-vector frame)");
+  ExrPart image{"", a.width, a.height, {"R", "G", "B"}, {}, {}};
+  image.attributes["libbrdf:format"] = "blender-atlas";
+  image.attributes["libbrdf:version"] = kVersion;
+  image.attributes["libbrdf:layout"] = "rusinkiewicz";
+  image.attributes["libbrdf:shape"] = std::to_string(a.shape[0]) + "x" + std::to_string(a.shape[1]) + "x" + std::to_string(a.shape[2]);
+  image.attributes["libbrdf:atlas"] = atlas_layout_text(a);
+  image.attributes["libbrdf:axis_mapping"] =
+      "theta_h = (pi/2)(i0/(N0-1))^2, theta_d = (pi/2) i1/(N1-1), phi_d = pi k/(N2-1) (MERL's half-vector frame)";
   std::ostringstream wavelengths;
   for (int c = 0; c < lut.channels(); ++c) wavelengths << (c ? "," : "") << lut.wavelengths_um[c];
-  spec.attribute("libbrdf:wavelengths_um", wavelengths.str());
-  spec.attribute("libbrdf:units", "BRDF 1/sr; R_spec row dimensionless");
-  for (const auto& [key, value] : lut.attributes) spec.attribute("libbrdf:" + key, value);
-
-  const std::string temporary = temporary_beside(path, ".exr");
-  auto out = OIIO::ImageOutput::create(temporary);
-  if (!out) throw std::runtime_error(path + ": cannot write (" + OIIO::geterror() + ")");
-  // EXR scanlines run top to bottom; our rows count from the bottom.
-  const auto row_bytes = static_cast<OIIO::stride_t>(a.width) * 3 * sizeof(float);
-  const float* last_row = texels.data() + static_cast<std::size_t>(a.height - 1) * a.width * 3;
-  const bool ok = out->open(temporary, spec) &&
-                  out->write_image(OIIO::TypeDesc::FLOAT, last_row, OIIO::AutoStride, -row_bytes) && out->close();
-  if (!ok) {
-    const std::string message = out->geterror();
-    std::error_code ec;
-    std::filesystem::remove(temporary, ec);
-    throw std::runtime_error(path + ": cannot write (" + message.substr(0, message.find('\n')) + ")");
-  }
-  out.reset();
-  rename_or_throw(temporary, path);
+  image.attributes["libbrdf:wavelengths_um"] = wavelengths.str();
+  image.attributes["libbrdf:units"] = "BRDF 1/sr; R_spec row dimensionless";
+  for (const auto& [key, value] : lut.attributes) image.attributes["libbrdf:" + key] = value;
+  // EXR scanlines run top to bottom; the atlas' rows count from the bottom.
+  const std::size_t row = static_cast<std::size_t>(a.width) * 3;
+  image.pixels.resize(texels.size());
+  for (int y = 0; y < a.height; ++y)
+    std::copy_n(texels.begin() + static_cast<std::ptrdiff_t>(row * (a.height - 1 - y)), row,
+                image.pixels.begin() + static_cast<std::ptrdiff_t>(row * y));
+  write_exr(path, {image});
 }
 
 MicrofacetFit microfacet_fit(ModelKind kind, const std::vector<ModelParameters>& channels) {
@@ -217,21 +191,6 @@ std::string osl_identifier(const std::string& text) {
   std::string id = "libbrdf_";
   for (char ch : text) id += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
   return id;
-}
-
-void write_text_atomically(const std::string& path, const std::string& text) {
-  const std::string temporary = temporary_beside(path, "");
-  {
-    std::ofstream out(temporary, std::ios::binary);
-    out << text;
-    out.close();
-    if (!out) {
-      std::error_code ec;
-      std::filesystem::remove(temporary, ec);
-      throw std::runtime_error(path + ": cannot write");
-    }
-  }
-  rename_or_throw(temporary, path);
 }
 
 }  // namespace libbrdf::blender

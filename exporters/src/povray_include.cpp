@@ -7,6 +7,7 @@
 
 #include <unistd.h>
 
+#include "libbrdf/image_file.h"
 #include "exporters/povray.h"
 #include "libbrdf/error.h"
 #include "libbrdf/version.h"
@@ -174,21 +175,7 @@ ExportResult export_povray(const SliceRequest& request, const std::string& name,
   fs::create_directories(directory, ec);
   if (ec) throw std::runtime_error("cannot create directory '" + directory + "': " + ec.message());
   const fs::path path = fs::path(directory) / (name + ".inc");
-  const fs::path temporary = fs::path(directory) / ("." + name + ".inc.tmp" + std::to_string(::getpid()));
-  {
-    std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
-    file << text;
-    file.close();
-    if (!file) {
-      fs::remove(temporary, ec);
-      throw std::runtime_error("cannot write '" + temporary.string() + "'");
-    }
-  }
-  fs::rename(temporary, path, ec);
-  if (ec) {
-    fs::remove(temporary, ec);
-    throw std::runtime_error("cannot rename onto '" + path.string() + "'");
-  }
+  write_text_file_atomically(path.string(), text);
   result.include_path = path.string();
   return result;
 }

@@ -40,12 +40,6 @@ std::map<std::string, std::string> lut_metadata(const Lut& lut);
 // Throws LutFileError("<label>: <problem>").
 void restore_from_metadata(Lut& lut, const std::map<std::string, std::string>& metadata, const std::string& label);
 
-// Writes a file through `write_to(temporary_path)` beside `path`, then renames it onto `path`.
-// A throw from write_to (or a failed rename) removes the temporary: no partial file is left.
-// `suffix` is appended to the temporary's name (e.g. ".exr", so that writers pick the format).
-void write_atomically(const std::string& path, const std::string& suffix,
-                      const std::function<void(const std::string& temporary_path)>& write_to);
-
 // Model parameters as JSON text (for file headers) and a one-line description.
 std::string parameters_json(ModelKind kind, const std::vector<ModelParameters>& channels);
 

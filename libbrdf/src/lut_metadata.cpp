@@ -202,27 +202,6 @@ void restore_from_metadata(Lut& lut, const std::map<std::string, std::string>& m
   lut.attributes = m;
 }
 
-void write_atomically(const std::string& path, const std::string& suffix,
-                      const std::function<void(const std::string&)>& write_to) {
-  namespace fs = std::filesystem;
-  static std::atomic<unsigned> counter{0};
-  const fs::path target(path);
-  if (target.filename().empty()) throw LutFileError(path + ": not a file name");
-  const fs::path directory = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  std::error_code ec;
-  if (!fs::is_directory(directory, ec)) throw LutFileError(path + ": directory '" + directory.string() + "' does not exist");
-  const fs::path temporary = directory / ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
-                                          std::to_string(counter++) + suffix);
-  try {
-    write_to(temporary.string());
-    fs::rename(temporary, target, ec);
-    if (ec) throw LutFileError(path + ": cannot rename the temporary file into place (" + ec.message() + ")");
-  } catch (...) {
-    fs::remove(temporary, ec);
-    throw;
-  }
-}
-
 std::string parameters_json(ModelKind kind, const std::vector<ModelParameters>& channels) {
   nlohmann::ordered_json out = nlohmann::ordered_json::array();
   for (const ModelParameters& p : channels) {

@@ -65,14 +65,14 @@ void write_merl_binary(const Lut& lut, const std::string& path) {
   sidecar["renormalization"] = lut.renormalization;
   const std::string sidecar_text = sidecar.dump(1);
 
-  detail::write_atomically(sidecar_path(path), ".tmp", [&](const std::string& temporary) {
+  write_file_atomically(sidecar_path(path), ".tmp", [&](const std::string& temporary) {
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
     out << sidecar_text << "\n";
     out.close();
     if (!out) throw LutFileError(sidecar_path(path) + ": write failed");
   });
   try {
-    detail::write_atomically(path, ".tmp", [&](const std::string& temporary) {
+    write_file_atomically(path, ".tmp", [&](const std::string& temporary) {
       std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
       std::int32_t dims[3] = {kMerlShape[0], kMerlShape[1], kMerlShape[2]};
       for (std::int32_t& d : dims) to_little_endian(d);

@@ -94,7 +94,5 @@ std::string osl_shader_source(const BlenderAtlas& atlas, const std::string& shad
 // An OSL identifier from any text: [A-Za-z0-9_], not starting with a digit, "libbrdf_" prefixed.
 std::string osl_identifier(const std::string& text);
 
-// Writes text to `path` through a temporary beside it and a rename.
-void write_text_atomically(const std::string& path, const std::string& text);
 
 }  // namespace libbrdf::blender

@@ -1,6 +1,6 @@
 #pragma once
 // Baked tables (LUTs) of a BRDF model, their bake (error-bounded), lookup, and files.
-// OpenEXR / OpenImageIO stay in the sources; this header uses the standard library only.
+// OpenEXR stays in the sources; this header uses the standard library only.
 //
 // Layouts (axis mapping and texel convention are also written into every file's header):
 //  rusinkiewicz  3D over (theta_h, theta_d, phi_d) (S. Rusinkiewicz, EGWR 1998), isotropic.
@@ -56,6 +56,7 @@
 #include <vector>
 
 #include "libbrdf/geometry.h"
+#include "libbrdf/image_file.h"
 #include "libbrdf/models.h"
 
 namespace libbrdf {
@@ -187,12 +188,9 @@ std::vector<ScatterAngles> random_table_geometries(LutLayout layout, int count, 
                                                    std::uint64_t seed, const Direction& light = {},
                                                    const Direction& view = {});
 
-// Thrown for unreadable, truncated, corrupt or foreign files: one line naming the file and the problem.
-struct LutFileError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
+// LutFileError (unreadable, truncated, corrupt or foreign files) is declared in image_file.h.
 
-// OpenEXR through OpenImageIO, metadata as "libbrdf:<key>" string header attributes (layout,
+// OpenEXR (through image_file.h), metadata as "libbrdf:<key>" string header attributes (layout,
 // shape, axes, texel convention, model, parameters, wavelengths, measured error, version, ...).
 // Subimage 0 "brdf": the table as a float32 image, one channel per wavelength (R,G,B for three);
 // rusinkiewicz/merl: width N2, height N0*N1, pixel (x, y) = node (y / N1, y % N1, x); slice: width
