@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 namespace libbrdf {
@@ -16,7 +17,7 @@ constexpr double kLogUnderflow = -745.0;
 
 // Stirling-series error delta(m) = ln m! - (m ln m - m + ln(2 pi m)/2), m >= 1.
 // Exact (from lgamma) below 16, where the asymptotic series is not yet at double precision.
-double stirling_error(int m) {
+double stirling_error(std::int64_t m) {
   static const std::array<double, 16> table = [] {
     std::array<double, 16> t{};
     for (int k = 1; k < 16; ++k) {
@@ -26,18 +27,19 @@ double stirling_error(int m) {
     return t;
   }();
   if (m < 16) return table[m];
-  const double inv = 1.0 / m, inv2 = inv * inv;
+  const double inv = 1.0 / static_cast<double>(m), inv2 = inv * inv;
   return inv * (1.0 / 12 - inv2 * (1.0 / 360 - inv2 * (1.0 / 1260 - inv2 / 1680)));
 }
 
 // g * bd(m/g) with bd(x) = x ln x - x + 1 >= 0, accurate where m ~ g (no cancellation).
-double poisson_deviance_half(int m, double g) {
-  const double x = m / g;
+double poisson_deviance_half(std::int64_t m, double g) {
+  const double dm = static_cast<double>(m);
+  const double x = dm / g;
   if (std::abs(x - 1.0) < 0.5) {
-    const double y = (m - g) / g;
+    const double y = (dm - g) / g;
     return g * ((1.0 + y) * std::log1p(y) - y);
   }
-  return m * std::log(x) - m + g;
+  return dm * std::log(x) - dm + g;
 }
 
 }  // namespace
@@ -45,35 +47,36 @@ double poisson_deviance_half(int m, double g) {
 // ln of the Poisson weight e^-g g^m / m! in the saddle-point form of C. Loader, "Fast and
 // accurate computation of binomial probabilities" (2000): full relative precision even for
 // g ~ 1e6, where m ln g - ln m! - g loses ~10 digits to cancellation.
-double detail::log_poisson_weight(int m, double g) {
+double detail::log_poisson_weight(std::int64_t m, double g) {
   return -poisson_deviance_half(m, g) - 0.5 * (kLn2Pi + std::log(static_cast<double>(m))) - stirling_error(m);
 }
 
 namespace {
 
 // ln of term m of Sigma(g, c): Poisson weight x (1/m) x Gaussian exp(-c/m).
-double log_term(int m, double g, double c) {
-  const double dm = m;
+double log_term(std::int64_t m, double g, double c) {
+  const double dm = static_cast<double>(m);
   return detail::log_poisson_weight(m, g) - std::log(dm) - c / dm;
 }
 
 // ln(t_{m+1} / t_m) = ln g + ln m - 2 ln(m+1) + c / (m (m+1)); strictly decreasing in m, so the
 // terms are log-concave in m and have one largest term.
-double log_ratio(int m, double ln_g, double c) {
-  const double dm = m;
+double log_ratio(std::int64_t m, double ln_g, double c) {
+  const double dm = static_cast<double>(m);
   return ln_g + std::log(dm) - 2.0 * std::log(dm + 1.0) + c / (dm * (dm + 1.0));
 }
 
 // Index of the largest term: the smallest m >= 1 with log_ratio(m) < 0 (bisection on a
 // monotone function). Upper bound: at m = 2 max(g, sqrt c) + 2 the ratio is below -0.4.
-int largest_term_index(double g, double c) {
+// 64-bit: the mode is ~g, and g ~ 1e9 (sigma_s/lambda ~ 2500) must not overflow.
+std::int64_t largest_term_index(double g, double c) {
   const double ln_g = std::log(g);
   if (log_ratio(1, ln_g, c) < 0.0) return 1;
   const double bound = 2.0 * std::max(g, std::sqrt(c)) + 2.0;
-  int lo = 1;  // log_ratio(lo) >= 0
-  int hi = static_cast<int>(std::min(bound, 1.0e9));
+  std::int64_t lo = 1;  // log_ratio(lo) >= 0
+  std::int64_t hi = static_cast<std::int64_t>(std::min(bound, 1.0e15));
   while (hi - lo > 1) {
-    const int mid = lo + (hi - lo) / 2;
+    const std::int64_t mid = lo + (hi - lo) / 2;
     (log_ratio(mid, ln_g, c) >= 0.0 ? lo : hi) = mid;
   }
   return hi;
@@ -83,21 +86,21 @@ int largest_term_index(double g, double c) {
 
 double mbk_series_sum(double g, double c, const SeriesOptions& options, SeriesStats* stats) {
   if (!(g > 0.0)) return 0.0;  // sigma_s = 0: no scatter (conventions.md, "Domain")
-  const int mode = largest_term_index(g, c);
+  const std::int64_t mode = largest_term_index(g, c);
   const double log_peak = log_term(mode, g, c);
   if (stats) *stats = SeriesStats{1, 1, mode};
   // Everything below the peak's underflow margin is 0 in double precision anyway.
   if (log_peak < kLogUnderflow - 40.0) return 0.0;
 
   // Standard deviation of the log-concave window from the curvature at the largest term.
-  int stride = 1;
+  std::int64_t stride = 1;
   if (options.method == SeriesMethod::strided && mode > 64) {
     const double ln_g = std::log(g);
     const double curvature = log_ratio(mode - 1, ln_g, c) - log_ratio(mode, ln_g, c);
     const double width = 1.0 / std::sqrt(std::max(curvature, 1e-300));
     // Poisson summation: stride <= width/2 keeps the aliasing error ~exp(-8 pi^2) ~ 1e-34;
     // the window must stay 12 widths clear of m = 1, where the sum is cut off.
-    if (mode - 12.0 * width > 1.0) stride = std::max(1, static_cast<int>(width / 2.0));
+    if (static_cast<double>(mode) - 12.0 * width > 1.0) stride = std::max<std::int64_t>(1, static_cast<std::int64_t>(width / 2.0));
   }
 
   const double tol = options.relative_tolerance;
@@ -105,9 +108,9 @@ double mbk_series_sum(double g, double c, const SeriesOptions& options, SeriesSt
   int evaluated = 1;
   // Walk outward in one direction until the geometric bound on the rest of the tail (the ratio of
   // consecutive terms only decreases away from the mode) is below tol * sum.
-  auto walk = [&](int step) {
+  auto walk = [&](std::int64_t step) {
     double previous = 1.0;
-    for (int m = mode + step; m >= 1; m += step) {
+    for (std::int64_t m = mode + step; m >= 1; m += step) {
       const double term = std::exp(log_term(m, g, c) - log_peak);
       ++evaluated;
       sum += term;
@@ -120,7 +123,7 @@ double mbk_series_sum(double g, double c, const SeriesOptions& options, SeriesSt
   walk(stride);
   walk(-stride);
   if (stats) *stats = SeriesStats{evaluated, stride, mode};
-  const double log_value = log_peak + std::log(sum * stride);
+  const double log_value = log_peak + std::log(sum * static_cast<double>(stride));
   return log_value < kLogUnderflow ? 0.0 : std::exp(log_value);
 }
 

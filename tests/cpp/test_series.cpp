@@ -141,6 +141,27 @@ TEST(MbkSeries, RoughFormRelativeErrorIsOrderOneOverG) {
   }
 }
 
+// Beyond what a brute-force sum can reach (the mode m ~ g passes 2^31 at g ~ 2e9): the strided
+// series must still sum, and agree with the very-rough limit to its first-order error
+// |u^2 - 4u + 2| / (2g), up to the next order and the double rounding of the Poisson deviance,
+// whose absolute error grows like 1e-16 sqrt(g) (~3e-12 at g = 1e9).
+TEST(MbkSeries, HugeGBeyond32BitIndicesMatchesRoughLimit) {
+  for (double g : {1e9, 5e9}) {
+    for (double u : {0.0, 1.0, 5.0}) {
+      const double c = u * g;
+      SeriesStats stats;
+      const double series = mbk_series_sum(g, c, SeriesOptions{}, &stats);
+      ASSERT_TRUE(std::isfinite(series) && series > 0.0) << "g=" << g << " u=" << u << " value " << series;
+      EXPECT_GT(stats.mode_m, 1LL << 29) << "mode index must be near g";
+      EXPECT_GT(stats.stride, 1) << "a window of width ~sqrt(g) is summed with a stride";
+      const double relative = std::fabs(series / mbk_series_rough(g, c) - 1.0);
+      const double expected = std::fabs(u * u - 4 * u + 2) / (2 * g);
+      EXPECT_NEAR(relative, expected, 5.0 * std::pow(1 + u, 4) / (g * g) + 2e-16 * std::sqrt(g))
+          << "g=" << g << " u=" << u;
+    }
+  }
+}
+
 // The estimates that drive the regime choice must bound the actual error (against the
 // long-double series) wherever they are small enough to matter (< 0.5).
 TEST(MbkSeries, RoughErrorEstimateBoundsActualError) {

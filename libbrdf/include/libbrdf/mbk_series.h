@@ -33,9 +33,9 @@ struct SeriesOptions {
 
 // Diagnostics of one summation (for tests and benchmarks).
 struct SeriesStats {
-  int terms_evaluated = 0;
-  int stride = 1;
-  int mode_m = 0;  // index of the largest term
+  long long terms_evaluated = 0;
+  long long stride = 1;
+  long long mode_m = 0;  // index of the largest term (64-bit: ~g, which may exceed 2^31)
 };
 
 // Sigma(g, c) above (dimensionless). g >= 0, c >= 0. Returns 0 when every term underflows
