@@ -165,8 +165,7 @@ ExportResult export_povray(const SliceRequest& request, const std::string& name,
                                             std::to_string(request.channels.size()) + ")");
   ExportResult result;
   result.slice = bake_half_vector_slice(request);
-  std::vector<Model> models;
-  for (const ModelParameters& p : request.channels) models.emplace_back(request.model, p);
+  const std::vector<Model> models = channel_models(request.model, request.channels);
   result.fit = fit_finish(result.slice, models, request.seed);
 
   const std::string text = include_text(name, request.model, request.channels, result.slice, result.fit);

@@ -121,11 +121,8 @@ HalfVectorSlice bake_half_vector_slice(const SliceRequest& request) {
   HalfVectorSlice slice;
   slice.geometry = make_slice_geometry(request.light, request.view);
   const SliceGeometry& g = slice.geometry;
-  std::vector<Model> models;
-  for (const ModelParameters& p : request.channels) {
-    models.emplace_back(request.model, p);
-    slice.wavelengths_um.push_back(p.wavelength_um);
-  }
+  const std::vector<Model> models = channel_models(request.model, request.channels);
+  for (const ModelParameters& p : request.channels) slice.wavelengths_um.push_back(p.wavelength_um);
   const SliceRadiance radiance(g, models);
   const int nc = radiance.channels();
   const auto nc_size = static_cast<std::size_t>(nc);

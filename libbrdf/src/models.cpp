@@ -98,6 +98,13 @@ bool is_brdf(ModelKind kind) {
   }
 }
 
+std::vector<Model> channel_models(ModelKind kind, const std::vector<ModelParameters>& channels) {
+  std::vector<Model> models;
+  models.reserve(channels.size());
+  for (const ModelParameters& p : channels) models.emplace_back(kind, p);
+  return models;
+}
+
 Model::Model(ModelKind kind, const ModelParameters& p) : kind_(kind), params_(p) {
   const Needs needs = needs_of(kind, p);
   require_positive("wavelength", p.wavelength_um, "um");

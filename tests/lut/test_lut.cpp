@@ -65,11 +65,7 @@ BakeRequest request_for(ModelKind model, double sigma_s_um, double lc_um, std::v
   return r;
 }
 
-std::vector<Model> models_of(const BakeRequest& r) {
-  std::vector<Model> models;
-  for (const ModelParameters& p : r.channels) models.emplace_back(r.model, p);
-  return models;
-}
+std::vector<Model> models_of(const BakeRequest& r) { return channel_models(r.model, r.channels); }
 
 // Geometries drawn uniformly in (sqrt(theta_h), theta_d, phi_d) -- the test's own mapping, written
 // from the paper's half/difference definitions -- with both polar angles <= limit_deg.

@@ -32,11 +32,7 @@ SliceRequest gold(ModelKind model, double sigma_s_um, Direction light = {-1, 1, 
   return request;
 }
 
-std::vector<Model> models_of(const SliceRequest& request) {
-  std::vector<Model> models;
-  for (const ModelParameters& p : request.channels) models.emplace_back(request.model, p);
-  return models;
-}
+std::vector<Model> models_of(const SliceRequest& request) { return channel_models(request.model, request.channels); }
 
 TEST(SlopePattern, MapsTheDotProductLikePovRay37) {
   // Measured with POV-Ray 3.7.0: s = 1/2 + asin(N.d)/pi (not the linear (1 + N.d)/2 of 3.5).

@@ -93,7 +93,7 @@ class Model {
 
   ModelKind kind() const { return kind_; }
   const ModelParameters& parameters() const { return params_; }
-  // Counts of the ASF regimes chosen so far (mbk only; for reports).
+  // The surface at this model's wavelength.
   Surface surface() const { return surface_; }
 
  private:
@@ -106,5 +106,8 @@ class Model {
 
   double evaluate_impl(const ScatterGeometry& geo, const double* asf_given) const;
 };
+
+// One Model per channel (wavelength) of a multi-channel material, in the channels' order.
+std::vector<Model> channel_models(ModelKind kind, const std::vector<ModelParameters>& channels);
 
 }  // namespace libbrdf
