@@ -24,12 +24,14 @@ import shutil
 import subprocess
 import sys
 import tempfile
-import zipfile
 
 import numpy as np
 import OpenImageIO as oiio
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+sys.path.insert(0, os.path.join(ROOT, "blender_addon"))
+from package import addon_zip  # noqa: E402
+
 ROWS = (("mbk", "MBK (eq. 11, K)"), ("bk", "BK original (eq. 26)"), ("bk-modified", "BK modified (eq. 28)"),
         ("microfacet", "microfacet, mapped (eqs 20/25)"))
 LAMBDA_UM = 0.55
@@ -40,16 +42,6 @@ SPACING = 2.2          # scene units between sphere centres (radius 1)
 # itself by the sun alone), and a sun of angle 0 (no glint sampling noise).
 WORLD = (0.1, 0.1, 0.1)
 SUN = {"direction": [0.45, -1.0, 0.55], "strength": 3.0, "color": [1.0, 1.0, 1.0], "angle_deg": 0.0}
-
-
-def addon_zip(directory):
-    path = os.path.join(directory, "libbrdf_materials.zip")
-    source = os.path.join(ROOT, "blender_addon", "libbrdf_materials")
-    with zipfile.ZipFile(path, "w") as z:
-        for name in sorted(os.listdir(source)):
-            if name.endswith((".py", ".toml")):
-                z.write(os.path.join(source, name), f"libbrdf_materials/{name}")
-    return path
 
 
 def build_job(args, work, columns, cell):

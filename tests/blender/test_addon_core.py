@@ -16,18 +16,14 @@ import OpenImageIO as oiio
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.environ.get("LIBBRDF_ROOT", os.path.normpath(os.path.join(HERE, "..", "..")))
 sys.path.insert(0, os.path.join(ROOT, "blender_addon"))
+sys.path.insert(0, os.path.dirname(HERE))
 
+import checks  # noqa: E402
 import libbrdf_materials  # noqa: E402
+from checks import check  # noqa: E402
 from libbrdf_materials import core  # noqa: E402
 
 BRDF = os.environ.get("BRDF_EXE", "brdf")
-failures = []
-
-
-def check(condition, message):
-    print(("ok   " if condition else "FAIL ") + message)
-    if not condition:
-        failures.append(message)
 
 
 def rejects(parameter, **changes):
@@ -195,12 +191,8 @@ def main():
         test_executable_lookup(tmp)
         test_export_and_cache(tmp)
         test_cli_contract(tmp)
-    if failures:
-        print(f"{len(failures)} check(s) failed")
-        return 1
-    print("add-on core checks passed")
-    return 0
+    checks.finish("add-on core checks passed")
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    main()

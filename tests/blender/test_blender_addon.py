@@ -4,6 +4,7 @@ Usage: test_blender_addon.py   (env BRDF_EXE, LIBBRDF_ROOT)
 """
 
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -11,7 +12,11 @@ import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from test_blender_render import BLENDER, BRDF, addon_zip  # noqa: E402
+sys.path.insert(0, os.path.dirname(HERE))
+from test_blender_render import BLENDER, BRDF, ROOT  # noqa: E402
+sys.path.insert(0, os.path.join(ROOT, "blender_addon"))
+import checks  # noqa: E402
+from package import addon_zip  # noqa: E402
 
 
 def main():
@@ -22,15 +27,16 @@ def main():
         done = subprocess.run([BLENDER, "-b", "--factory-startup", "--python-exit-code", "1", "--python",
                                os.path.join(HERE, "blender_addon_checks.py"), "--", addon_zip(tmp)],
                               env=env, capture_output=True, text=True)
-        lines = [line for line in done.stdout.splitlines() if line.startswith(("ok ", "FAIL", "{"))]
+        # blender_addon_checks.py uses tests/checks.py: its last summary line counts the checks.
+        lines = [line for line in done.stdout.splitlines()
+                 if line.startswith(("ok ", "FAIL")) or re.fullmatch(r"\d+ passed, \d+ failed", line)]
         print("\n".join(lines))
-        if done.returncode != 0 or not lines or not lines[-1].startswith('{"failures": 0'):
+        ok = done.returncode == 0 and bool(lines) and re.fullmatch(r"\d+ passed, 0 failed", lines[-1]) is not None
+        if not ok:
             print(done.stderr[-3000:])
-            print(f"FAIL blender exited with {done.returncode}")
-            return 1
-    print("add-on checks in Blender passed")
-    return 0
+        checks.check(ok, f"add-on checks in Blender (blender exited with {done.returncode})")
+    checks.finish("add-on checks in Blender passed")
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    main()

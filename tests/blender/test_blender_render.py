@@ -23,37 +23,22 @@ import shutil
 import subprocess
 import sys
 import tempfile
-import zipfile
 
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.environ.get("LIBBRDF_ROOT", os.path.normpath(os.path.join(HERE, "..", "..")))
 sys.path.insert(0, HERE)
+sys.path.insert(0, os.path.dirname(HERE))
+sys.path.insert(0, os.path.join(ROOT, "blender_addon"))
+import checks  # noqa: E402
 import render_check  # noqa: E402
+from checks import check  # noqa: E402
+from package import addon_zip  # noqa: E402
 
 BRDF = os.environ.get("BRDF_EXE", "brdf")
 BLENDER = os.environ.get("BLENDER", "blender")
 MAX_RELATIVE_ERROR = 0.02
-failures = []
-
-
-def check(condition, message):
-    print(("ok   " if condition else "FAIL ") + message, flush=True)
-    if not condition:
-        failures.append(message)
-
-
-def addon_zip(directory):
-    """The add-on folder zipped as Blender's installer expects (libbrdf_materials/...)."""
-    path = os.path.join(directory, "libbrdf_materials.zip")
-    source = os.path.join(ROOT, "blender_addon", "libbrdf_materials")
-    with zipfile.ZipFile(path, "w") as z:
-        for name in sorted(os.listdir(source)):
-            if name.endswith((".py", ".toml")):
-                z.write(os.path.join(source, name), f"libbrdf_materials/{name}")
-    return path
-
 
 AU = {"model": "mbk", "material": "Au", "sigma_s": 0.1, "lc": 2.0, "resolution": [128, 64, 48]}
 BK7 = {"model": "bk", "material": "BK7", "sigma_s": 0.15, "lc": 1.5, "resolution": [128, 64, 48]}
@@ -133,7 +118,7 @@ def run(args, tmp):
             return 77
         print(log[-4000:])
         check(False, f"blender ran the job (exit {done.returncode})")
-        return 1
+        checks.finish()
     with open(job["results"], encoding="utf-8") as f:
         results = json.load(f)
     check(all(os.path.join(tmp, "user_scripts") in r["addon_file"] for r in results),
@@ -177,11 +162,7 @@ def run(args, tmp):
                   f"{np.median(rel):.3f}, 90th percentile {np.percentile(rel, 90):.3f}, max {rel.max():.3f}; "
                   f"mean FIT/LUT {np.mean(fit[same]) / np.mean(emit[same]):.3f}", flush=True)
             check(bool(np.all(np.isfinite(fit))), f"{render['name']}: FIT render finite")
-    if failures:
-        print(f"{len(failures)} check(s) failed")
-        return 1
-    print("Blender render checks passed")
-    return 0
+    checks.finish("Blender render checks passed")
 
 
 if __name__ == "__main__":

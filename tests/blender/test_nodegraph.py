@@ -19,19 +19,15 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.environ.get("LIBBRDF_ROOT", os.path.normpath(os.path.join(HERE, "..", "..")))
 sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.join(ROOT, "blender_addon"))
+sys.path.insert(0, os.path.dirname(HERE))
 
+import checks  # noqa: E402
 import graph_interpreter  # noqa: E402
 import render_check  # noqa: E402
+from checks import check  # noqa: E402
 from libbrdf_materials import core, nodegraph  # noqa: E402
 
 BRDF = os.environ.get("BRDF_EXE", "brdf")
-failures = []
-
-
-def check(condition, message):
-    print(("ok   " if condition else "FAIL ") + message)
-    if not condition:
-        failures.append(message)
 
 
 def random_geometries(rng, count, max_theta_deg):
@@ -137,12 +133,8 @@ def main():
         lut_case(directory, core.MaterialRequest(model="bk", material="BK7", sigma_s=0.15, lc=1.5, mode="LUT",
                                                  resolution=(128, 64, 48), name="BK7 bk"), rng)
         fit_case(directory, core.MaterialRequest(model="mbk", material="Al", sigma_s=0.2, lc=2.0, mode="FIT"))
-    if failures:
-        print(f"{len(failures)} check(s) failed")
-        return 1
-    print("all node-graph checks passed")
-    return 0
+    checks.finish("all node-graph checks passed")
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    main()

@@ -25,21 +25,17 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.environ.get("LIBBRDF_ROOT", os.path.normpath(os.path.join(HERE, "..", "..")))
 sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.join(ROOT, "blender_addon"))
+sys.path.insert(0, os.path.dirname(HERE))
 
+import checks  # noqa: E402
 import graph_interpreter  # noqa: E402
 import render_check  # noqa: E402
+from checks import check  # noqa: E402
 from libbrdf_materials import core, nodegraph  # noqa: E402
 from test_nodegraph import random_geometries  # noqa: E402
 
 BRDF = os.environ.get("BRDF_EXE", "brdf")
 CXX = sys.argv[1] if len(sys.argv) > 1 else os.environ.get("CXX", "c++")
-failures = []
-
-
-def check(condition, message):
-    print(("ok   " if condition else "FAIL ") + message)
-    if not condition:
-        failures.append(message)
 
 
 def split_top_level(text):
@@ -135,7 +131,7 @@ def main():
         check(built.returncode == 0, "generated OSL compiles as C++ with the shim" +
               ("" if built.returncode == 0 else ":\n" + built.stderr[-3000:]))
         if built.returncode != 0:
-            return 1
+            checks.finish()
 
         count = 3000
         n, light, view, angles = random_geometries(rng, count, 70.0)
@@ -173,12 +169,8 @@ def main():
         check(diff.max() <= 1e-4, f"OSL and node graph agree: max relative difference {diff.max():.1e} <= 1e-4")
         sdiff = np.abs(nodes_out["Specular Weight"] - specular) / np.maximum(specular, 1e-6)
         check(sdiff.max() <= 1e-4, f"OSL and node graph R_spec agree: {sdiff.max():.1e} <= 1e-4")
-    if failures:
-        print(f"{len(failures)} check(s) failed")
-        return 1
-    print("OSL shader checks passed")
-    return 0
+    checks.finish("OSL shader checks passed")
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    main()

@@ -25,16 +25,13 @@ ROOT = os.environ["LIBBRDF_ROOT"]
 BRDF = os.environ["BRDF_EXE"]
 OUT = os.path.join(os.environ.get("LIBBRDF_BUILD", "/tmp"), "main_job_test", "report")
 sys.path.insert(0, os.path.join(ROOT, "tools", "report"))
+sys.path.insert(0, os.path.join(ROOT, "tests"))
 import brdfcli  # noqa: E402
+import checks  # noqa: E402
 import make_index  # noqa: E402
+from checks import check  # noqa: E402
 
-failures = []
-
-
-def check(condition, message):
-    if not condition:
-        failures.append(message)
-    return condition
+checks.print_passes = False  # the messages below name the problem
 
 
 def run_job():
@@ -190,10 +187,8 @@ def main():
     check_tables()
     if os.path.isfile(os.path.join(OUT, "index.html")):
         check_index(promised)
-    if failures:
-        print(f"FAIL: {len(failures)} problem(s) in {OUT}:", *failures, sep="\n  ", file=sys.stderr)
-        sys.exit(1)
-    print(f"ok: main job at reduced size; {len(promised)} files, {len(images)} images checked in {OUT}")
+    checks.finish(f"ok: main job at reduced size; {len(promised)} files, {len(images)} images checked in {OUT}",
+                  f" in {OUT}")
 
 
 if __name__ == "__main__":

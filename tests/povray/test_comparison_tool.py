@@ -23,16 +23,13 @@ ROOT = Path(os.environ["LIBBRDF_ROOT"])
 BRDF = os.environ["BRDF_EXE"]
 OUT = Path(os.environ.get("LIBBRDF_BUILD", "/tmp")) / "povray_test" / "comparison"
 sys.path.insert(0, str(ROOT / "tools"))
+sys.path.insert(0, str(ROOT / "tests"))
+import checks  # noqa: E402
 import povray_common as pc  # noqa: E402
 import render_povray_comparison as tool  # noqa: E402
+from checks import check  # noqa: E402
 
-failures = []
-
-
-def check(condition, message):
-    if not condition:
-        failures.append(message)
-    return condition
+checks.print_passes = False  # the messages below name the problem
 
 
 def main():
@@ -76,10 +73,7 @@ def main():
             if check(use.sum() >= 20, f"{label}: only {use.sum()} pixel-channels above the floor"):
                 print(f"  {label:26s} {int(use.sum()):5d} pixel-channels, max rel error {rel.max():.3%}")
                 check(rel.max() <= 0.02, f"{label}: max relative error {rel.max():.3%} > 2%")
-    if failures:
-        print(f"FAIL: {len(failures)} problem(s) in {OUT}:", *failures, sep="\n  ", file=sys.stderr)
-        sys.exit(1)
-    print(f"ok: POV-Ray comparison renders in {OUT}")
+    checks.finish(f"ok: POV-Ray comparison renders in {OUT}", f" in {OUT}")
 
 
 if __name__ == "__main__":

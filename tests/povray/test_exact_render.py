@@ -23,7 +23,12 @@ ROOT = Path(os.environ["LIBBRDF_ROOT"])
 BRDF = os.environ["BRDF_EXE"]
 OUT = Path(os.environ.get("LIBBRDF_BUILD", "/tmp")) / "povray_test" / "exact_render"
 sys.path.insert(0, str(ROOT / "tools"))
+sys.path.insert(0, str(ROOT / "tests"))
+import checks  # noqa: E402
 import povray_common as pc  # noqa: E402
+from checks import check  # noqa: E402
+
+checks.print_passes = False  # the messages below name the problem
 
 SCENE = ROOT / "povray" / "scenes" / "object_check.pov"
 WAVELENGTHS = [0.65, 0.55, 0.45]
@@ -44,14 +49,6 @@ CASES = [
     dict(name="superellipsoid_microfacet_rough", shape=2, size=180, model="microfacet", light=L1, view=(0, 0, -1),
          params=dict(material="Al", sigma_s=0.0825, lc=2.0)),
 ]
-
-failures = []
-
-
-def check(condition, message):
-    if not condition:
-        failures.append(message)
-    return condition
 
 
 def analytic_sphere_normals(size, half_width=1.15):
@@ -120,10 +117,8 @@ def main():
     for case in CASES:
         print(f"{case['name']}: {case['model']} {case['params']} light {case['light']} view {case['view']}")
         run_case(case)
-    if failures:
-        print(f"FAIL: {len(failures)} problem(s); renders in {OUT}:", *failures, sep="\n  ", file=sys.stderr)
-        sys.exit(1)
-    print(f"ok: {len(CASES)} POV-Ray renders of NAME_Exact within {MAX_RELATIVE_ERROR:.0%} of brdf eval")
+    checks.finish(f"ok: {len(CASES)} POV-Ray renders of NAME_Exact within {MAX_RELATIVE_ERROR:.0%} of brdf eval",
+                  f"; renders in {OUT}")
 
 
 if __name__ == "__main__":

@@ -20,17 +20,15 @@ ROOT = Path(os.environ["LIBBRDF_ROOT"])
 BRDF = os.environ["BRDF_EXE"]
 OUT = Path(os.environ.get("LIBBRDF_BUILD", "/tmp")) / "povray_test" / "export_cli"
 sys.path.insert(0, str(ROOT / "tools"))
+sys.path.insert(0, str(ROOT / "tests"))
+import checks  # noqa: E402
 import povray_common as pc  # noqa: E402
+from checks import check  # noqa: E402
+
+checks.print_passes = False  # the messages below name the problem
 
 GOOD = ["--model", "mbk", "--material", "Au", "--sigma-s", "0.03", "--lc", "2", "--light-dir", "-1,1,-1",
         "--view-dir", "0,0,-1", "--name", "Gold", "--resolution", "64"]
-failures = []
-
-
-def check(condition, message):
-    if not condition:
-        failures.append(message)
-    return condition
 
 
 def with_option(args, option, value):
@@ -129,10 +127,7 @@ sphere {{ 0, 1 texture {{ {texture} }} }}
 def main():
     check_bad_input()
     check_include_in_povray()
-    if failures:
-        print(f"FAIL: {len(failures)} problem(s):", *failures, sep="\n  ", file=sys.stderr)
-        sys.exit(1)
-    print("ok: brdf export povray contract")
+    checks.finish("ok: brdf export povray contract")
 
 
 if __name__ == "__main__":
