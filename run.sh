@@ -108,7 +108,7 @@ need_script() {
 }
 
 stage_install() { "$root/scripts/install_deps.sh" --with-renderers; }
-stage_build() { "$root/scripts/build.sh" "$root/build"; }
+stage_build() { "$root/scripts/build.sh" "$root/build" brdf; }
 stage_bake() {
   need_subcommand bake || return 1
   "$py" "$root/tools/report/bake_materials.py" --brdf "$brdf" --out "$out/bakes" "${small_flag[@]}"
