@@ -58,28 +58,7 @@ bool ends_with(const std::string& text, const std::string& suffix) {
   return text.size() >= suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-libbrdf::Direction parse_direction(const std::string& text, const char* parameter) {
-  const std::vector<double> v = parse_number_list(text, 3, parameter);
-  if (!(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] > 0.0)) throw libbrdf::InvalidArgument(parameter, "must be a nonzero vector X,Y,Z");
-  return {v[0], v[1], v[2]};
-}
 
-std::array<int, 3> parse_resolution(const std::string& text, libbrdf::LutLayout layout) {
-  const std::size_t count = layout == libbrdf::LutLayout::slice ? 2 : 3;
-  const std::vector<double> v = parse_number_list(text, count, "resolution");
-  std::array<int, 3> shape{1, 1, 1};
-  for (std::size_t k = 0; k < count; ++k) {
-    if (v[k] != std::floor(v[k]) || v[k] < 2 || v[k] > 4096)
-      throw libbrdf::InvalidArgument("resolution", "nodes per axis must be whole numbers in [2, 4096] (got '" + text + "')");
-    shape[k] = static_cast<int>(v[k]);
-  }
-  return shape;
-}
-
-std::string shape_text(const std::array<int, 3>& s, libbrdf::LutLayout layout) {
-  return std::to_string(s[0]) + "x" + std::to_string(s[1]) +
-         (layout == libbrdf::LutLayout::slice ? "" : "x" + std::to_string(s[2]));
-}
 
 class ProgressBar {
  public:
@@ -139,7 +118,7 @@ int run_bake(const BakeOptions& o) {
   } else if (request.layout != LutLayout::slice && (!o.light_dir.empty() || !o.view_dir.empty())) {
     throw InvalidArgument(o.light_dir.empty() ? "view-dir" : "light-dir", "only used by layout slice");
   }
-  if (!o.resolution.empty()) request.resolution = parse_resolution(o.resolution, request.layout);
+  if (!o.resolution.empty()) request.resolution = parse_node_counts(o.resolution, request.layout == libbrdf::LutLayout::slice ? 2 : 3);
   request.target_error = o.target_error;
   request.error_samples = o.error_samples;
   request.error_floor_fraction = o.error_floor;
@@ -155,7 +134,7 @@ int run_bake(const BakeOptions& o) {
   request.progress = [&bar](double fraction) { bar.update(fraction); };
   request.trial_done = [&bar, &request](const std::array<int, 3>& shape, const libbrdf::LutError& error) {
     bar.clear();
-    std::fprintf(stderr, "target-error: %s max relative error %.3g (rms %.3g)\n", shape_text(shape, request.layout).c_str(),
+    std::fprintf(stderr, "target-error: %s max relative error %.3g (rms %.3g)\n", libbrdf::shape_text(shape, request.layout).c_str(),
                  error.max_relative, error.rms_relative);
   };
   interrupted.store(false);
@@ -180,7 +159,7 @@ int run_bake(const BakeOptions& o) {
     libbrdf::write_lut_exr(lut, o.output);
   }
   std::printf("wrote %s: %s %s, %d channel(s), model %s\n", o.output.c_str(), std::string(libbrdf::layout_name(lut.layout)).c_str(),
-              shape_text(lut.shape, lut.layout).c_str(), lut.channels(), o.model.model.c_str());
+              libbrdf::shape_text(lut.shape, lut.layout).c_str(), lut.channels(), o.model.model.c_str());
   std::printf("measured error at %d off-grid values (theta_i, theta_s <= %g deg): max relative %.3g, rms relative %.3g; "
               "up to the horizon: max relative %.3g (values below the floor %.3g 1/sr = %g x the table max ignored)\n",
               lut.error.samples, lut.error.theta_limit_deg, lut.error.max_relative, lut.error.rms_relative,

@@ -136,12 +136,6 @@ ModelParameters reference_parameters(const BenchSurface& s) {
   return p;
 }
 
-std::string shape_text(const libbrdf::Lut& lut) {
-  std::string text = std::to_string(lut.shape[0]) + "x" + std::to_string(lut.shape[1]);
-  if (lut.layout != LutLayout::slice) text += "x" + std::to_string(lut.shape[2]);
-  return text;
-}
-
 // The reference of a model: itself at tolerance 0 / every_term, mbk for its closed forms.
 ModelKind reference_kind(ModelKind kind) {
   return kind == ModelKind::mbk_polished || kind == ModelKind::mbk_rough ? ModelKind::mbk : kind;
@@ -244,7 +238,7 @@ class Bench {
     const libbrdf::Lut lut = libbrdf::bake(request);
     const QuerySet& q = slice ? slice_ : full_;
     Row row{"lut", std::string(libbrdf::model_name(kind)), s.name, "table of the default model",
-            std::string(libbrdf::layout_name(layout)), shape_text(lut)};
+            std::string(libbrdf::layout_name(layout)), libbrdf::shape_text(lut.shape, lut.layout)};
     row.nodes = double(lut.nodes_per_channel());
     const Evaluator f = [&lut](const ScatterGeometry& g) { return lut.lookup(0, g); };
     fill_errors(row, values_on(q, f), ref.values);

@@ -28,16 +28,6 @@ struct ExportBlenderOptions {
   std::string name;
 };
 
-std::array<int, 3> parse_resolution(const std::string& text) {
-  const std::vector<double> v = parse_number_list(text, 3, "resolution");
-  std::array<int, 3> nodes{};
-  for (int k = 0; k < 3; ++k) {
-    if (v[k] != std::floor(v[k]) || v[k] < 2 || v[k] > 4096)
-      throw libbrdf::InvalidArgument("resolution", "expected three whole numbers of nodes in [2, 4096] (got '" + text + "')");
-    nodes[k] = static_cast<int>(v[k]);
-  }
-  return nodes;
-}
 
 int run_export_blender(const ExportBlenderOptions& o) {
   namespace fs = std::filesystem;
@@ -74,7 +64,7 @@ int run_export_blender(const ExportBlenderOptions& o) {
     request.model = kind;
     request.channels = e.channels;
     request.layout = libbrdf::LutLayout::rusinkiewicz;
-    if (!o.resolution.empty()) request.resolution = parse_resolution(o.resolution);
+    if (!o.resolution.empty()) request.resolution = parse_node_counts(o.resolution, 3);
     request.target_error = o.target_error;
     lut = libbrdf::bake(request);
     e.lut = &lut;

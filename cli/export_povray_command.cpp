@@ -19,10 +19,6 @@ struct ExportPovrayOptions {
   int resolution = libbrdf::povray::kMaxMapEntries;
 };
 
-libbrdf::Direction direction(const std::string& text, const char* parameter) {
-  const std::vector<double> v = parse_number_list(text, 3, parameter);
-  return {v[0], v[1], v[2]};
-}
 }  // namespace
 
 void register_export_povray(CLI::App& app, ActionTable& actions) {
@@ -48,8 +44,8 @@ void register_export_povray(CLI::App& app, ActionTable& actions) {
     libbrdf::povray::SliceRequest request;
     request.model = parse_model_kind(options->model);
     for (double w : wavelengths) request.channels.push_back(model_parameters(options->model, w));
-    request.light = direction(options->light_dir, "light-dir");
-    request.view = direction(options->view_dir, "view-dir");
+    request.light = parse_direction(options->light_dir, "light-dir");
+    request.view = parse_direction(options->view_dir, "view-dir");
     request.entries = options->resolution;
     const libbrdf::povray::ExportResult result =
         libbrdf::povray::export_povray(request, options->name, options->output);

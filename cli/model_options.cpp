@@ -94,4 +94,22 @@ std::vector<double> parse_number_list(const std::string& text, std::size_t count
   return values;
 }
 
+libbrdf::Direction parse_direction(const std::string& text, const char* parameter) {
+  const std::vector<double> v = parse_number_list(text, 3, parameter);
+  if (!(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] > 0.0)) throw InvalidArgument(parameter, "must be a nonzero vector X,Y,Z");
+  return {v[0], v[1], v[2]};
+}
+
+std::array<int, 3> parse_node_counts(const std::string& text, std::size_t count) {
+  const std::vector<double> v = parse_number_list(text, count, "resolution");
+  std::array<int, 3> nodes{1, 1, 1};
+  for (std::size_t k = 0; k < count; ++k) {
+    if (v[k] != std::floor(v[k]) || v[k] < 2 || v[k] > 4096)
+      throw InvalidArgument("resolution", "expected " + std::to_string(count) +
+                                              " whole numbers of nodes per axis in [2, 4096] (got '" + text + "')");
+    nodes[k] = static_cast<int>(v[k]);
+  }
+  return nodes;
+}
+
 }  // namespace brdf_cli

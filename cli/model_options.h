@@ -3,10 +3,12 @@
 // (eval, bake, export): --model, --sigma-s, --lc, --wavelength, --n, --k, --material, ...
 #include <CLI/CLI.hpp>
 
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "libbrdf/lut.h"
 #include "libbrdf/models.h"
 
 namespace brdf_cli {
@@ -37,5 +39,12 @@ std::vector<double> channel_wavelengths(const ModelOptions& options, std::vector
 
 // Parses "a,b,c" into exactly `count` finite numbers; throws InvalidArgument naming `parameter`.
 std::vector<double> parse_number_list(const std::string& text, std::size_t count, const char* parameter);
+
+// A world direction "X,Y,Z" (nonzero; normalized by its users); throws InvalidArgument naming `parameter`.
+libbrdf::Direction parse_direction(const std::string& text, const char* parameter);
+
+// Table nodes per axis "N0,N1[,N2]": `count` whole numbers in [2, 4096]; unused axes are 1.
+// Throws InvalidArgument naming "resolution".
+std::array<int, 3> parse_node_counts(const std::string& text, std::size_t count);
 
 }  // namespace brdf_cli

@@ -15,13 +15,13 @@
 #include "lut_internal.h"
 
 namespace libbrdf {
-namespace {
-
 std::string shape_text(const std::array<int, 3>& shape, LutLayout layout) {
   std::string text = std::to_string(shape[0]) + "x" + std::to_string(shape[1]);
   if (layout != LutLayout::slice) text += "x" + std::to_string(shape[2]);
   return text;
 }
+
+namespace {
 
 void require_direction(const char* parameter, const Direction& d) {
   const double length2 = d.x * d.x + d.y * d.y + d.z * d.z;

@@ -64,6 +64,8 @@ namespace libbrdf {
 enum class LutLayout { rusinkiewicz, merl, slice };
 std::string_view layout_name(LutLayout layout);
 LutLayout layout_from_name(std::string_view name);  // throws InvalidArgument("layout", ...)
+// "N0xN1xN2" ("N0xN1" for the 2D slice layout), for messages and reports.
+std::string shape_text(const std::array<int, 3>& shape, LutLayout layout);
 
 // Polar angle (deg) that stands in for directions on or below the horizon in table nodes (see above).
 inline constexpr double kHorizonThetaLimitDeg = 89.9;
