@@ -7,10 +7,14 @@ strength and colour; R_spec(theta_v) times the world colour is the mirror lobe's
 """
 
 import json
-import subprocess
+import os
+import sys
 
 import numpy as np
 import OpenImageIO as oiio
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools", "report"))
+import brdfcli  # noqa: E402  (the one wrapper around `brdf eval`)
 
 
 def read_passes(path):
@@ -67,17 +71,8 @@ def description_surface(description_path):
 
 def brdf_eval(brdf, model, p, angles):
     """`brdf eval` of one channel (parameter dict as in the table's 'parameters') at N angle triples."""
-    cmd = [brdf, "eval", "--model", model, "--wavelength", repr(p["wavelength_um"]),
-           "--sigma-s", repr(p["sigma_s_um"]), "--lc", repr(p["lc_um"]),
-           "--n", repr(p["n"]), "--k", repr(p["kappa"]), "--queries", "-"]
-    text = "\n".join(f"{a:.17g},{b:.17g},{c:.17g}" for a, b, c in zip(*angles)) + "\n"
-    done = subprocess.run(cmd, input=text, capture_output=True, text=True)
-    if done.returncode != 0:
-        raise RuntimeError(f"{' '.join(cmd)}: {done.stderr.strip()}")
-    values = np.loadtxt(done.stdout.splitlines()[1:], delimiter=",", ndmin=2)[:, 3]
-    if values.shape[0] != len(angles[0]):
-        raise RuntimeError("brdf eval returned a different number of values")
-    return values
+    return brdfcli.evaluate(brdf, model, *angles, wavelength=p["wavelength_um"], sigma_s=p["sigma_s_um"],
+                            lc=p["lc_um"], n=p["n"], k=p["kappa"])
 
 
 def predicted_radiance(brdf, model, channels, normals, light, view, strength, colour):

@@ -53,7 +53,7 @@ def evaluate(brdf, model, theta_i, theta_s, phi_s, **params):
     shape = ti.shape
     queries = np.column_stack([ti.ravel(), ts.ravel(), ps.ravel()])
     buffer = io.StringIO()
-    np.savetxt(buffer, queries, fmt="%.12g", delimiter=",")
+    np.savetxt(buffer, queries, fmt="%.17g", delimiter=",")
     command = [brdf, "eval", "--model", model, *cli_options(**params), "--queries", "-"]
     run = subprocess.run(command, input=buffer.getvalue(), capture_output=True, text=True)
     if run.returncode != 0:
