@@ -1,0 +1,35 @@
+#pragma once
+// Batch evaluation: many queries of one Model (or one table) in, values out. This is the entry
+// point that `brdf eval`, `bake`, `bench`, the exporters and the Python module use, so that every
+// front end gives bit-identical values for the same query.
+//
+// Large batches run in parallel (oneTBB) in fixed-size chunks; each value depends only on its own
+// query, so results do not depend on the thread count or the chunking.
+#include <cstddef>
+
+#include "libbrdf/geometry.h"
+#include "libbrdf/lut.h"
+#include "libbrdf/models.h"
+
+namespace libbrdf {
+
+// Batches at least this large are split across threads.
+inline constexpr std::size_t kBatchParallelThreshold = 4096;
+
+// values[k] = model.evaluate(angles[k]) for k < count (radians, conventions.md).
+// Every query is validated first: theta_i, theta_s in [0, pi/2), all finite. A bad query throws
+// InvalidArgument naming the angle and the query's index; nothing is written to `values` then.
+void evaluate_batch(const Model& model, const ScatterAngles* angles, std::size_t count, double* values);
+
+// Same, with directions in the surface frame (normal +z) instead of angles: to_light and to_view
+// are count x 3 doubles (x, y, z), both pointing away from the surface, any nonzero length
+// (normalized here). Directions with z <= 0 (on or below the horizon) or non-finite components
+// throw InvalidArgument("to_light" / "to_view", ...) with the index. The azimuths are relative:
+// only L.V, N.L and N.V enter (isotropic surface).
+void evaluate_directions_batch(const Model& model, const double* to_light, const double* to_view, std::size_t count,
+                               double* values);
+
+// Table lookups: values[k] = lut.lookup(channel, geometry of angles[k]). Same validation.
+void lookup_batch(const Lut& lut, int channel, const ScatterAngles* angles, std::size_t count, double* values);
+
+}  // namespace libbrdf

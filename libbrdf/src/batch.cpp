@@ -1,0 +1,84 @@
+// Batch evaluation (batch.h): validation first, then fixed chunks in parallel.
+#include "libbrdf/batch.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <string>
+
+#include "libbrdf/error.h"
+
+namespace libbrdf {
+namespace {
+
+// Chunks of this many queries are the unit of parallel work: big enough to amortize scheduling,
+// fixed so that the split does not depend on the thread count.
+constexpr std::size_t kChunk = 1024;
+
+template <typename Body>
+void for_each_chunk(std::size_t count, const Body& body) {
+  if (count < kBatchParallelThreshold) {
+    body(std::size_t{0}, count);
+    return;
+  }
+  const std::size_t chunks = (count + kChunk - 1) / kChunk;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t chunk = r.begin(); chunk != r.end(); ++chunk)
+      body(chunk * kChunk, std::min(count, (chunk + 1) * kChunk));
+  });
+}
+
+void validate_angles(const ScatterAngles* angles, std::size_t count) {
+  for (std::size_t k = 0; k < count; ++k) {
+    try {
+      require_polar_angle("theta_i", angles[k].theta_i);
+      require_polar_angle("theta_s", angles[k].theta_s);
+      require_finite("phi_s", angles[k].phi_s);
+    } catch (const InvalidArgument& e) {
+      throw InvalidArgument(e.parameter(), std::string(e.what() + e.parameter().size() + 2) + " at query " + std::to_string(k));
+    }
+  }
+}
+
+}  // namespace
+
+void evaluate_batch(const Model& model, const ScatterAngles* angles, std::size_t count, double* values) {
+  validate_angles(angles, count);
+  for_each_chunk(count, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) values[k] = model.evaluate(make_scatter_geometry(angles[k]));
+  });
+}
+
+void evaluate_directions_batch(const Model& model, const double* to_light, const double* to_view, std::size_t count,
+                               double* values) {
+  // Directions -> angles in the frame where the light's azimuth is 0 (phi_i = 0, conventions.md).
+  std::vector<ScatterAngles> angles(count);
+  for (std::size_t k = 0; k < count; ++k) {
+    const double* l = to_light + 3 * k;
+    const double* v = to_view + 3 * k;
+    for (int axis = 0; axis < 3; ++axis) {
+      if (!std::isfinite(l[axis])) throw InvalidArgument("to_light", "components must be finite, at query " + std::to_string(k));
+      if (!std::isfinite(v[axis])) throw InvalidArgument("to_view", "components must be finite, at query " + std::to_string(k));
+    }
+    const double ll = std::sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+    const double vl = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (!(ll > 0.0 && l[2] > 0.0)) throw InvalidArgument("to_light", "must point above the surface (z > 0), at query " + std::to_string(k));
+    if (!(vl > 0.0 && v[2] > 0.0)) throw InvalidArgument("to_view", "must point above the surface (z > 0), at query " + std::to_string(k));
+    angles[k].theta_i = std::atan2(std::hypot(l[0], l[1]), l[2]);
+    angles[k].theta_s = std::atan2(std::hypot(v[0], v[1]), v[2]);
+    angles[k].phi_s = std::atan2(v[1], v[0]) - std::atan2(l[1], l[0]);
+  }
+  evaluate_batch(model, angles.data(), count, values);
+}
+
+void lookup_batch(const Lut& lut, int channel, const ScatterAngles* angles, std::size_t count, double* values) {
+  if (channel < 0 || channel >= lut.channels())
+    throw InvalidArgument("channel", "must be in [0, " + std::to_string(lut.channels() - 1) + "] (got " + std::to_string(channel) + ")");
+  validate_angles(angles, count);
+  for_each_chunk(count, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) values[k] = lut.lookup(channel, make_scatter_geometry(angles[k]));
+  });
+}
+
+}  // namespace libbrdf
