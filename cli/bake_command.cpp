@@ -2,18 +2,19 @@
 //   brdf bake --model NAME [surface params as in eval] [--wavelength a,b,c]
 //             [--layout rusinkiewicz|merl|slice] [--resolution A,B,C | --target-error REL]
 //             [--light-dir X,Y,Z --view-dir X,Y,Z] [--scene scene.json] -o OUT.exr|OUT.binary
-// Progress goes to stderr only when stderr is a terminal. Ctrl-C (SIGINT) cancels the bake; no
-// file is written unless the bake completes (files are written to a temporary and renamed).
+// Progress goes to stderr only when stderr is a terminal. SIGINT, SIGTERM or SIGHUP at any moment
+// exits 130/143/129 with no final file changed and no temporary left (interrupt.h); files are
+// written to temporaries and renamed (a MERL binary and its sidecar as one unit, lut.h).
 #include <unistd.h>
 
-#include <atomic>
 #include <cmath>
-#include <csignal>
+#include <cstdint>
 #include <cstdio>
 #include <iostream>
 #include <memory>
 
 #include "commands.h"
+#include "interrupt.h"
 #include "libbrdf/error.h"
 #include "libbrdf/lut.h"
 #include "model_options.h"
@@ -30,29 +31,15 @@ struct BakeOptions {
   std::string light_dir, view_dir;
   std::string scene;
   std::string output;
-  int error_samples = 20000;
+  std::string error_samples;  // whole number in [1, kMaxErrorSamples]; default 20000
   double error_floor = 1e-3;
   double error_theta_limit = libbrdf::kErrorThetaLimitDeg;
-  std::uint64_t seed = 1;
+  std::string seed;  // whole number in [0, 2^64 - 1]; default 1
 };
 
-std::atomic<bool> interrupted{false};
-extern "C" void on_sigint(int) { interrupted.store(true); }
-
-// Installs the SIGINT handler for the lifetime of the object, restoring the previous one after.
-class SigintGuard {
- public:
-  SigintGuard() {
-    struct sigaction action {};
-    action.sa_handler = on_sigint;
-    sigemptyset(&action.sa_mask);
-    sigaction(SIGINT, &action, &previous_);
-  }
-  ~SigintGuard() { sigaction(SIGINT, &previous_, nullptr); }
-
- private:
-  struct sigaction previous_ {};
-};
+// Largest --error-samples: the measurement holds a batch of samples/channels geometries and their
+// errors (~60 MB at this cap) and takes ~10 s for mbk; 2147483647 asked for 9 GB and never ended.
+constexpr std::uint64_t kMaxErrorSamples = 1000000;
 
 bool ends_with(const std::string& text, const std::string& suffix) {
   return text.size() >= suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
@@ -84,9 +71,11 @@ class ProgressBar {
 int run_bake(const BakeOptions& o) {
   using libbrdf::InvalidArgument;
   using libbrdf::LutLayout;
+  handle_interrupts("bake");
   const bool merl_output = ends_with(o.output, ".binary");
   if (!merl_output && !ends_with(o.output, ".exr"))
-    throw InvalidArgument("output", "must end in .exr (OpenEXR) or .binary (MERL) (got '" + o.output + "')");
+    throw InvalidArgument("output", "must end in .exr (OpenEXR) or .binary (MERL) (got '" + libbrdf::message_excerpt(o.output) + "')");
+  require_writable_output(o.output, "output");  // before any work, not after the bake
 
   libbrdf::BakeRequest request;
   request.model = parse_model_kind(o.model);
@@ -96,7 +85,7 @@ int run_bake(const BakeOptions& o) {
                                       std::pair{!o.view_dir.empty(), "view-dir"}})
       if (given) throw InvalidArgument(name, "the scene (--scene) decides it; give one or the other");
     const libbrdf::ScenePlan plan = libbrdf::plan_scene_bake(o.scene);
-    if (!plan.wavelengths_um.empty() && !o.model.wavelengths_um.empty())
+    if (!plan.wavelengths_um.empty() && !o.model.wavelengths.empty())
       throw InvalidArgument("wavelength", "the scene lists wavelengths_um; give them in one place");
     if (!plan.wavelengths_um.empty()) default_wavelengths = plan.wavelengths_um;
     request.layout = plan.layout;
@@ -120,10 +109,10 @@ int run_bake(const BakeOptions& o) {
   }
   if (!o.resolution.empty()) request.resolution = parse_node_counts(o.resolution, request.layout == libbrdf::LutLayout::slice ? 2 : 3);
   request.target_error = o.target_error;
-  request.error_samples = o.error_samples;
+  request.error_samples = o.error_samples.empty() ? 20000 : static_cast<int>(parse_whole_number(o.error_samples, 1, kMaxErrorSamples, "error-samples"));
   request.error_floor_fraction = o.error_floor;
   request.error_theta_limit_deg = o.error_theta_limit;
-  request.seed = o.seed;
+  request.seed = o.seed.empty() ? 1 : parse_whole_number(o.seed, 0, UINT64_MAX, "seed");
 
   const std::vector<double> wavelengths = channel_wavelengths(o.model, default_wavelengths);
   if (merl_output && wavelengths.size() != 3)
@@ -137,27 +126,14 @@ int run_bake(const BakeOptions& o) {
     std::fprintf(stderr, "target-error: %s max relative error %.3g (rms %.3g)\n", libbrdf::shape_text(shape, request.layout).c_str(),
                  error.max_relative, error.rms_relative);
   };
-  interrupted.store(false);
-  request.cancel = &interrupted;
-  SigintGuard guard;
-  libbrdf::Lut lut;
-  try {
-    lut = libbrdf::bake(request);
-  } catch (const libbrdf::BakeCancelled&) {
-    bar.clear();
-    std::cerr << "brdf: bake interrupted; no file written\n";
-    return 130;
-  }
+  const libbrdf::Lut lut = libbrdf::bake(request);
   bar.clear();
-  if (interrupted.load()) {
-    std::cerr << "brdf: bake interrupted; no file written\n";
-    return 130;
-  }
   if (merl_output) {
     libbrdf::write_merl_binary(lut, o.output);
   } else {
     libbrdf::write_lut_exr(lut, o.output);
   }
+  outputs_published();
   std::printf("wrote %s: %s %s, %d channel(s), model %s\n", o.output.c_str(), std::string(libbrdf::layout_name(lut.layout)).c_str(),
               libbrdf::shape_text(lut.shape, lut.layout).c_str(), lut.channels(), o.model.model.c_str());
   std::printf("measured error at %d off-grid values (theta_i, theta_s <= %g deg): max relative %.3g, rms relative %.3g; "
@@ -181,11 +157,11 @@ void register_bake(CLI::App& app, ActionTable& actions) {
   command->add_option("--light-dir", options->light_dir, "Slice: world direction X,Y,Z towards the sun");
   command->add_option("--view-dir", options->view_dir, "Slice: world direction X,Y,Z towards the (orthographic) camera");
   command->add_option("--scene", options->scene, "Scene JSON (docs/scene.md): picks the layout, directions and wavelengths");
-  command->add_option("--error-samples", options->error_samples, "Values compared (off-grid points x channels above the floor) in the error measurement (default 20000)");
+  command->add_option("--error-samples", options->error_samples, "Values compared (off-grid points x channels above the floor) in the error measurement, 1..1000000 (default 20000)");
   command->add_option("--error-floor", options->error_floor, "Ignore model values below this fraction of the table max (default 1e-3)");
   command->add_option("--error-theta-limit", options->error_theta_limit,
                       "Measure the claimed error where both polar angles are <= this (deg, default 85; see lut.h)");
-  command->add_option("--seed", options->seed, "Seed of the error sampling (default 1)");
+  command->add_option("--seed", options->seed, "Seed of the error sampling, 0..18446744073709551615 (default 1)");
   command->add_option("-o,--output", options->output, "Output file: .exr (OpenEXR) or .binary (MERL)")->required();
   actions.emplace_back(command, [options]() { return run_bake(*options); });
 }

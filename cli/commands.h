@@ -15,6 +15,7 @@ using ActionTable = std::vector<std::pair<CLI::App*, Action>>;
 void register_eval(CLI::App& app, ActionTable& actions);    // eval_command.cpp
 void register_bake(CLI::App& app, ActionTable& actions);    // bake_command.cpp
 void register_bench(CLI::App& app, ActionTable& actions);   // bench_command.cpp
+void register_albedo(CLI::App& app, ActionTable& actions);  // albedo_command.cpp
 void register_export_blender(CLI::App& app, ActionTable& actions);  // export_blender_command.cpp (under `export`)
 void register_export_povray(CLI::App& app, ActionTable& actions);   // export_povray_command.cpp (under `export`)
 

@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "commands.h"
+#include "interrupt.h"
 #include "libbrdf/image_file.h"
 #include "exporters/blender.h"
 #include "libbrdf/error.h"
@@ -32,13 +33,12 @@ struct ExportBlenderOptions {
 int run_export_blender(const ExportBlenderOptions& o) {
   namespace fs = std::filesystem;
   using libbrdf::InvalidArgument;
+  handle_interrupts("export blender");
   if (o.mode != "lut" && o.mode != "osl" && o.mode != "fit")
     throw InvalidArgument("mode", "must be one of lut|osl|fit (got '" + o.mode + "')");
   const fs::path output(o.output);
-  if (output.extension() != ".json") throw InvalidArgument("output", "must name a .json file (got '" + o.output + "')");
-  const fs::path directory = output.has_parent_path() ? output.parent_path() : fs::path(".");
-  if (!fs::is_directory(directory))
-    throw InvalidArgument("output", "directory '" + directory.string() + "' does not exist");
+  if (output.extension() != ".json") throw InvalidArgument("output", "must name a .json file (got '" + libbrdf::message_excerpt(o.output) + "')");
+  require_writable_output(o.output, "output");
   if (!o.resolution.empty() && o.target_error)
     throw InvalidArgument("target-error", "give either --resolution or --target-error, not both");
 
@@ -55,9 +55,25 @@ int run_export_blender(const ExportBlenderOptions& o) {
   e.model = kind;
   e.name = o.name.empty() ? output.stem().string() : o.name;
   for (double w : wavelengths) e.channels.push_back(model_parameters(o.model, w));
-  e.fit = libbrdf::blender::microfacet_fit(kind, e.channels);
+  e.spike = libbrdf::blender::spike_fit(kind, e.channels);
+  libbrdf::fit::NativeFit lobes;
+  if (o.mode == "fit") {
+    // --target-error is the fit's (p95 per-pixel error, fit.h); in lut/osl mode the table's.
+    libbrdf::fit::FitRequest fit_request;
+    fit_request.target_error = o.target_error.value_or(libbrdf::fit::kDefaultTargetError);
+    if (!o.resolution.empty()) throw InvalidArgument("resolution", "--mode fit bakes no table (give --target-error for the fit)");
+    lobes = libbrdf::fit::fit_native_lobes(libbrdf::channel_models(kind, e.channels), fit_request);
+    e.lobes = &lobes;
+    std::cerr << "fit: " << lobes.lobes.size() << " GGX lobes, per-pixel error median " << 100.0 * lobes.quality.median
+              << "%, p95 " << 100.0 * lobes.quality.p95 << "% (target " << 100.0 * fit_request.target_error << "%"
+              << (lobes.target_met ? "" : ", not met") << ")\n";
+  }
 
   std::vector<std::string> written;
+  // NAME.exr, NAME.osl and NAME.json are published together (image_file.h): a failure or a
+  // signal before the end leaves none of them, and the add-on never sees a description beside
+  // another export's atlas.
+  libbrdf::PublicationGroup files;
   libbrdf::Lut lut;
   if (o.mode != "fit") {
     libbrdf::BakeRequest request;
@@ -88,6 +104,8 @@ int run_export_blender(const ExportBlenderOptions& o) {
   }
   libbrdf::write_text_file_atomically(output.string(), libbrdf::blender::blender_description_json(e));
   written.push_back(output.string());
+  files.publish();
+  outputs_published();
   for (const std::string& path : written) std::cout << path << "\n";
   return 0;
 }
@@ -101,7 +119,7 @@ void register_export_blender(CLI::App& app, ActionTable& actions) {
   command->add_option("--output", options->output, "Description file DIR/NAME.json (NAME.exr, NAME.osl beside it)")->required();
   command->add_option("--mode", options->mode, "lut (table + emission nodes, default) | osl (also an OSL shader) | fit (native BSDF only, no table)");
   command->add_option("--resolution", options->resolution, "Table nodes N0,N1,N2 (theta_h, theta_d, phi_d); default: the bake's");
-  command->add_option("--target-error", options->target_error, "Smallest table whose measured max relative error meets this");
+  command->add_option("--target-error", options->target_error, "lut/osl: smallest table whose measured max relative error meets this; fit: p95 per-pixel error the lobe count must meet (default 0.1)");
   command->add_option("--name", options->name, "Material name (default: NAME of --output)");
   actions.emplace_back(command, [options]() { return run_export_blender(*options); });
 }

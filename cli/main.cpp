@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "commands.h"
+#include "model_options.h"
 #include "libbrdf/error.h"
 #include "libbrdf/version.h"
 
@@ -15,8 +16,30 @@ int main(int argc, char** argv) {
   app.failure_message([](const CLI::App*, const CLI::Error& e) { return std::string(e.what()) + "\n"; });
 
   brdf_cli::ActionTable actions;
-  for (auto registrar : {&brdf_cli::register_eval, &brdf_cli::register_bake, &brdf_cli::register_bench, &brdf_cli::register_export_blender, &brdf_cli::register_export_povray}) registrar(app, actions);
+  for (auto registrar : {&brdf_cli::register_eval, &brdf_cli::register_bake, &brdf_cli::register_bench, &brdf_cli::register_albedo, &brdf_cli::register_export_blender, &brdf_cli::register_export_povray}) registrar(app, actions);
+  // One rule for every value: empty or with control characters is an error (model_options.h).
+  brdf_cli::add_value_checks(app);
 
+  // An unknown command word is named (CLI11 would only say that a subcommand is required).
+  for (int depth = 1, at = 1; at < argc && depth <= 2; ++depth, ++at) {
+    const std::string word = argv[at];
+    if (word.empty() || word[0] == '-') break;
+    const CLI::App* parent = depth == 1 ? &app : nullptr;
+    if (depth == 2) {
+      if (std::string(argv[1]) != "export") break;
+      parent = &brdf_cli::export_parent(app);
+    }
+    std::string names;
+    bool known = false;
+    for (const CLI::App* sub : const_cast<CLI::App*>(parent)->get_subcommands({})) {
+      names += (names.empty() ? "" : ", ") + sub->get_name();
+      known = known || sub->get_name() == word;
+    }
+    if (!known) {
+      std::cerr << "brdf: error: unknown command '" << libbrdf::message_excerpt(word) << "' (one of: " << names << ")\n";
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -1,6 +1,12 @@
 #include "model_options.h"
 
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <sstream>
 
 #include "libbrdf/error.h"
@@ -15,13 +21,13 @@ void add_model_options(CLI::App& command, ModelOptions& o, bool require_model) {
   if (require_model) model->required();
   command.add_option("--sigma-s", o.sigma_s_um, "RMS surface height sigma_s [um], >= 0");
   command.add_option("--lc", o.lc_um, "Surface correlation length l_c [um], > 0");
-  command.add_option("--wavelength", o.wavelengths_um, "Wavelength(s) [um], one per channel")->delimiter(',');
-  command.add_option("--n", o.n, "Real part n of the complex index n + i k");
-  command.add_option("--k", o.kappa, "Imaginary part kappa >= 0 of the complex index (default 0)");
+  command.add_option("--wavelength", o.wavelengths, "Wavelength(s) [um], one per channel: A[,B,...]");
+  command.add_option("--n", o.n, "Real part n of the complex index n + i k, in (0, 1000]");
+  command.add_option("--k", o.kappa, "Imaginary part kappa of the complex index, in [0, 1000] (default 0)");
   command.add_option("--material", o.material, "Built-in material (n, k tabulated per wavelength): Au, Ag, Al, Cu, Cr, Ni, Ti, Si, BK7");
-  command.add_option("--sigma-g", o.sigma_g, "Microfacet slope parameter sigma_g (eq. 7); default: mapped from sigma_s, l_c");
-  command.add_option("--rho-s", o.rho_s, "Microfacet amplitude rho_s (eq. 2); default: K(theta_i)");
-  command.add_option("--rho-d", o.rho_d, "Lambertian albedo rho_d (eq. 2), default 0");
+  command.add_option("--sigma-g", o.sigma_g, "Microfacet slope parameter sigma_g (eq. 7), in [1e-7, 1000]; default: mapped from sigma_s, l_c");
+  command.add_option("--rho-s", o.rho_s, "Microfacet amplitude rho_s (eq. 2), in [0, 1000]; default: K(theta_i)");
+  command.add_option("--rho-d", o.rho_d, "Lambertian albedo rho_d (eq. 2), in [0, 1], default 0");
   command.add_option("--g-term", o.g_term, "Shadowing/masking G: none|smith|vgroove (default smith)");
   command.add_option("--k-mode", o.k_mode, "Renormalization K: plane (eq. 13, default) | tis");
   command.add_option("--sigma-g-mapping", o.sigma_g_mapping, "sigma_g from sigma_s, l_c: auto|rough (eq. 20)|polished (eq. 25)");
@@ -39,7 +45,7 @@ Enum parse_choice(const std::string& text, const char* parameter,
     if (text == name) return value;
     names << (names.tellp() > 0 ? "|" : "") << name;
   }
-  throw InvalidArgument(parameter, "must be one of " + names.str() + " (got '" + text + "')");
+  throw InvalidArgument(parameter, "must be one of " + names.str() + " (got '" + libbrdf::message_excerpt(text) + "')");
 }
 }  // namespace
 
@@ -69,29 +75,72 @@ libbrdf::ModelParameters model_parameters(const ModelOptions& o, double waveleng
 }
 
 std::vector<double> channel_wavelengths(const ModelOptions& o, std::vector<double> default_wavelengths) {
-  std::vector<double> out = o.wavelengths_um.empty() ? std::move(default_wavelengths) : o.wavelengths_um;
+  std::vector<double> out = o.wavelengths.empty() ? std::move(default_wavelengths) : parse_number_list(o.wavelengths, 0, "wavelength");
   for (double w : out) libbrdf::require_positive("wavelength", w, "um");
   return out;
 }
 
 std::vector<double> parse_number_list(const std::string& text, std::size_t count, const char* parameter) {
+  const std::string expected = (count ? "expected " + std::to_string(count) : std::string("expected one or more")) +
+                               " comma-separated finite numbers (got '" + libbrdf::message_excerpt(text) + "')";
   std::vector<double> values;
-  std::stringstream stream(text);
-  std::string item;
-  while (std::getline(stream, item, ',')) {
-    try {
-      std::size_t used = 0;
-      const double v = std::stod(item, &used);
-      if (item.find_first_not_of(" \t\r", used) != std::string::npos) throw std::invalid_argument(item);
-      if (!std::isfinite(v)) throw std::invalid_argument(item);
-      values.push_back(v);
-    } catch (const std::exception&) {
-      throw InvalidArgument(parameter, "expected " + std::to_string(count) + " comma-separated finite numbers (got '" + text + "')");
-    }
+  std::size_t begin = 0;
+  for (;;) {
+    const std::size_t end = std::min(text.find(',', begin), text.size());
+    // Surrounding blanks are allowed ("30, 40, 180"); an item with nothing else is an error.
+    const std::string item = text.substr(begin, end - begin);
+    const std::size_t first = item.find_first_not_of(" \t\r"), last = item.find_last_not_of(" \t\r");
+    if (first == std::string::npos) throw InvalidArgument(parameter, "empty item in the list; " + expected);
+    const std::string number = item.substr(first, last - first + 1);
+    char* stop = nullptr;
+    errno = 0;
+    const double v = std::strtod(number.c_str(), &stop);
+    if (stop != number.c_str() + number.size() || !std::isfinite(v))
+      throw InvalidArgument(parameter, expected);
+    values.push_back(v);
+    if (end == text.size()) break;
+    begin = end + 1;
   }
-  if (values.size() != count)
-    throw InvalidArgument(parameter, "expected " + std::to_string(count) + " comma-separated finite numbers (got '" + text + "')");
+  if (count && values.size() != count) throw InvalidArgument(parameter, expected);
   return values;
+}
+
+std::uint64_t parse_whole_number(const std::string& text, std::uint64_t lo, std::uint64_t hi, const char* parameter) {
+  const std::string range = "must be a whole number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "] (got '" +
+                            libbrdf::message_excerpt(text) + "')";
+  if (text.empty() || text.size() > 20 || text.find_first_not_of("0123456789") != std::string::npos)
+    throw InvalidArgument(parameter, range);
+  errno = 0;
+  const unsigned long long value = std::strtoull(text.c_str(), nullptr, 10);
+  if (errno == ERANGE || value < lo || value > hi) throw InvalidArgument(parameter, range);
+  return value;
+}
+
+void add_value_checks(CLI::App& app) {
+  const CLI::Validator checked(
+      [](std::string& value) -> std::string {
+        if (value.empty()) return "empty value (give a value or leave the option out)";
+        for (const char c : value)
+          if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+            return "control character in the value '" + libbrdf::message_excerpt(value) + "'";
+        return "";
+      },
+      "", "value");
+  for (CLI::Option* option : app.get_options())
+    if (option->get_type_size() != 0) option->check(checked);
+  for (CLI::App* sub : app.get_subcommands({})) add_value_checks(*sub);
+}
+
+void require_writable_output(const std::string& output, const char* parameter) {
+  namespace fs = std::filesystem;
+  const fs::path path(output);
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw InvalidArgument(parameter, "'" + libbrdf::message_excerpt(output) + "' is a directory, not a file name");
+  const fs::path directory = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  if (!fs::is_directory(directory, ec))
+    throw InvalidArgument(parameter, "directory '" + libbrdf::message_excerpt(directory.string()) + "' does not exist");
+  if (::access(directory.c_str(), W_OK | X_OK) != 0)
+    throw InvalidArgument(parameter, "directory '" + libbrdf::message_excerpt(directory.string()) + "' is not writable");
 }
 
 libbrdf::Direction parse_direction(const std::string& text, const char* parameter) {
@@ -106,7 +155,7 @@ std::array<int, 3> parse_node_counts(const std::string& text, std::size_t count)
   for (std::size_t k = 0; k < count; ++k) {
     if (v[k] != std::floor(v[k]) || v[k] < 2 || v[k] > 4096)
       throw InvalidArgument("resolution", "expected " + std::to_string(count) +
-                                              " whole numbers of nodes per axis in [2, 4096] (got '" + text + "')");
+                                              " whole numbers of nodes per axis in [2, 4096] (got '" + libbrdf::message_excerpt(text) + "')");
     nodes[k] = static_cast<int>(v[k]);
   }
   return nodes;

@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 
 #include <array>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -17,7 +18,7 @@ struct ModelOptions {
   std::string model;
   std::optional<double> sigma_s_um, lc_um, n, kappa, sigma_g, rho_s;
   double rho_d = 0.0;
-  std::vector<double> wavelengths_um;  // one per channel
+  std::string wavelengths;             // --wavelength text "A[,B,...]" (parsed by channel_wavelengths)
   std::string material;
   std::string g_term = "smith";
   std::string k_mode = "plane";
@@ -37,8 +38,23 @@ libbrdf::ModelParameters model_parameters(const ModelOptions& options, double wa
 // The channels' wavelengths: --wavelength values, or the given default.
 std::vector<double> channel_wavelengths(const ModelOptions& options, std::vector<double> default_wavelengths);
 
-// Parses "a,b,c" into exactly `count` finite numbers; throws InvalidArgument naming `parameter`.
+// Parses "a,b,c" into exactly `count` finite numbers (count 0: one or more); throws
+// InvalidArgument naming `parameter`. One rule for every list: an empty item, a leading or
+// trailing comma, or an item that is not entirely a finite number is an error.
 std::vector<double> parse_number_list(const std::string& text, std::size_t count, const char* parameter);
+
+// A whole number in [lo, hi] written in decimal digits only (no sign, no exponent, no spaces);
+// throws InvalidArgument naming `parameter` and the range.
+std::uint64_t parse_whole_number(const std::string& text, std::uint64_t lo, std::uint64_t hi, const char* parameter);
+
+// Every option value of `app` and its subcommands gets two checks: not empty (an empty value is
+// an error, not "not given") and free of control characters (a newline in a path would reach a
+// file header or an OSL string literal). Call once after every option is registered.
+void add_value_checks(CLI::App& app);
+
+// Checks, before any work, that `output` can be created: its directory exists and is writable,
+// and `output` itself is not a directory. Throws InvalidArgument naming `parameter`.
+void require_writable_output(const std::string& output, const char* parameter);
 
 // A world direction "X,Y,Z" (nonzero; normalized by its users); throws InvalidArgument naming `parameter`.
 libbrdf::Direction parse_direction(const std::string& text, const char* parameter);

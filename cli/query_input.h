@@ -1,6 +1,7 @@
 #pragma once
 // Query input of `brdf eval`: --at TI,TS,PHIS options and CSV lines "theta_i,theta_s,phi_s"
 // (degrees) from a file or stdin; output CSV "theta_i,theta_s,phi_s,value" at 17 significant digits.
+#include <cstddef>
 #include <functional>
 #include <iosfwd>
 #include <string>
@@ -15,9 +16,14 @@ struct Query {
   std::string origin;  // "--at #2" or "line 5", for error messages
 };
 
+// Longest CSV query line accepted (characters, without the newline).
+inline constexpr std::size_t kMaxQueryLineLength = 4096;
+
 // Reads queries from --at values and from the CSV source ("" none, "-" stdin, else a file path).
-// A first line that is not numeric is taken as a header. Throws InvalidArgument naming the
-// parameter and the line number on malformed input.
+// Blank lines and lines starting with # are skipped; a header "theta_i,theta_s,phi_s[,...]" is
+// recognised by its names before the first data line. Throws InvalidArgument naming the
+// parameter and the line number on malformed input, on a line longer than kMaxQueryLineLength,
+// or on a directory.
 std::vector<Query> read_queries(const std::vector<std::string>& at_values, const std::string& queries_source);
 
 // Evaluates each query (angles validated per query, errors name the query) and writes the CSV.

@@ -1,6 +1,8 @@
 #include "libbrdf/error.h"
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <sstream>
 
 #include "libbrdf/geometry.h"
@@ -11,11 +13,12 @@ InvalidArgument::InvalidArgument(std::string parameter, const std::string& messa
     : std::invalid_argument(parameter + ": " + message), parameter_(std::move(parameter)) {}
 
 namespace {
+// Shortest of %.15g / %.17g that reads back as the same double (1e-07, not 9.9999999999999995e-08).
 std::string describe(double value) {
-  std::ostringstream out;
-  out.precision(17);
-  out << value;
-  return out.str();
+  char buffer[40];
+  std::snprintf(buffer, sizeof buffer, "%.15g", value);
+  if (std::strtod(buffer, nullptr) != value) std::snprintf(buffer, sizeof buffer, "%.17g", value);
+  return buffer;
 }
 std::string with_unit(const char* unit) { return (unit && *unit) ? std::string(" ") + unit : std::string(); }
 }  // namespace
@@ -38,6 +41,31 @@ void require_positive(const char* parameter, double value, const char* unit) {
 void require_polar_angle(const char* parameter, double theta_rad) {
   if (!std::isfinite(theta_rad) || theta_rad < 0.0 || theta_rad >= 0.5 * kPi)
     throw InvalidArgument(parameter, "must be in [0, 90) degrees (got " + describe(radians_to_degrees(theta_rad)) + ")");
+}
+
+void require_in_range(const char* parameter, double value, double lo, double hi, const char* unit) {
+  if (!(std::isfinite(value) && value >= lo && value <= hi))
+    throw InvalidArgument(parameter, "must be in [" + describe(lo) + ", " + describe(hi) + "]" + with_unit(unit) +
+                                         " (got " + describe(value) + ")");
+}
+
+std::string message_excerpt(std::string_view text, std::size_t max_chars) {
+  std::string out;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (out.size() >= max_chars) {
+      out += "... (" + std::to_string(text.size()) + " bytes)";
+      break;
+    }
+    const unsigned char byte = static_cast<unsigned char>(text[i]);
+    if (byte >= 0x20 && byte < 0x7f) {
+      out += static_cast<char>(byte);
+    } else {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02x", byte);
+      out += hex;
+    }
+  }
+  return out;
 }
 
 }  // namespace libbrdf

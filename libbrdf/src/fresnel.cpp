@@ -1,6 +1,8 @@
 #include "libbrdf/fresnel.h"
 
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include "libbrdf/error.h"
 
@@ -12,8 +14,13 @@ Complex ComplexIndex::permittivity() const {
 }
 
 void validate_index(const ComplexIndex& index) {
-  require_positive("n", index.n);
-  require_at_least("k", index.kappa, 0.0);
+  // fresnel.h: kMaxIndex bounds n and kappa (eps stays far inside the double range).
+  if (!(std::isfinite(index.n) && index.n > 0.0 && index.n <= kMaxIndex)) {
+    char got[40];
+    std::snprintf(got, sizeof got, "%.17g", index.n);
+    throw InvalidArgument("n", "must be in (0, 1000] (got " + std::string(got) + ")");
+  }
+  require_in_range("k", index.kappa, 0.0, kMaxIndex);
 }
 
 namespace {

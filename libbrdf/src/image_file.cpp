@@ -9,15 +9,120 @@
 #include <OpenEXR/ImfOutputPart.h>
 #include <OpenEXR/ImfPartType.h>
 #include <OpenEXR/ImfStringAttribute.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/file.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
+#include <set>
 
 namespace libbrdf {
+
+namespace {
+
+// The registry of live temporaries (image_file.h, "Interruption"). Never destroyed: a signal
+// thread may use it while static objects are being torn down at exit.
+struct TemporaryRegistry {
+  std::mutex mutex;
+  std::set<std::string> temporaries;
+};
+TemporaryRegistry& registry() {
+  static auto* instance = new TemporaryRegistry;
+  return *instance;
+}
+thread_local PublicationGroup* open_group = nullptr;
+
+void register_temporary(const std::string& path) {
+  std::lock_guard<std::mutex> lock(registry().mutex);
+  registry().temporaries.insert(path);
+}
+void discard_temporary(const std::string& path) {
+  std::lock_guard<std::mutex> lock(registry().mutex);
+  ::unlink(path.c_str());
+  registry().temporaries.erase(path);
+}
+
+// Temporaries ".NAME.tmp-PID-..." of this target whose process is gone (killed by SIGKILL, the
+// one signal that cannot be handled): removed before a new write to the same target.
+void remove_stale_temporaries(const std::filesystem::path& directory, const std::string& name) {
+  namespace fs = std::filesystem;
+  const std::string prefix = "." + name + ".tmp-";
+  std::error_code ec;
+  for (fs::directory_iterator it(directory, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string file = it->path().filename().string();
+    if (file.compare(0, prefix.size(), prefix) != 0) continue;
+    const long pid = std::strtol(file.c_str() + prefix.size(), nullptr, 10);
+    if (pid > 0 && pid != ::getpid() && ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH) {
+      std::error_code ignored;
+      fs::remove(it->path(), ignored);
+    }
+  }
+}
+
+// flock(2) on a directory for the lifetime of the object (LOCK_EX or LOCK_SH); no-op if the
+// directory cannot be opened (the write or read that follows reports the real problem).
+int lock_directory(const std::filesystem::path& directory, int operation) {
+  const int fd = ::open(directory.empty() ? "." : directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return -1;
+  while (::flock(fd, operation) != 0 && errno == EINTR) {
+  }
+  return fd;
+}
+
+}  // namespace
+
+PublicationLock::PublicationLock() { registry().mutex.lock(); }
+PublicationLock::~PublicationLock() { registry().mutex.unlock(); }
+void PublicationLock::remove_temporaries() {
+  for (const std::string& path : registry().temporaries) ::unlink(path.c_str());
+  registry().temporaries.clear();
+}
+
+PublicationGroup::PublicationGroup() : previous_(open_group) { open_group = this; }
+
+PublicationGroup::~PublicationGroup() {
+  open_group = previous_;
+  for (const auto& [temporary, target] : staged_) discard_temporary(temporary);
+}
+
+void PublicationGroup::publish() {
+  namespace fs = std::filesystem;
+  if (open_group == this) open_group = previous_;
+  // Exclusive locks on the target directories first (waiting for another publisher must not
+  // hold the publication lock, which a signal thread needs), in a fixed order.
+  std::set<std::string> directories;
+  for (const auto& entry : staged_) directories.insert(fs::path(entry.second).parent_path().string());
+  std::vector<int> locks;
+  for (const std::string& directory : directories) locks.push_back(lock_directory(directory, LOCK_EX));
+  std::string failure;
+  {
+    std::lock_guard<std::mutex> lock(registry().mutex);
+    for (const auto& [temporary, target] : staged_) {
+      if (failure.empty() && ::rename(temporary.c_str(), target.c_str()) != 0)
+        failure = target + ": cannot rename the temporary file into place (" + std::strerror(errno) + ")";
+      if (!failure.empty()) ::unlink(temporary.c_str());
+      registry().temporaries.erase(temporary);
+    }
+    staged_.clear();
+  }
+  for (int fd : locks)
+    if (fd >= 0) ::close(fd);
+  if (!failure.empty()) throw LutFileError(failure);
+}
+
+DirectoryReadLock::DirectoryReadLock(const std::string& file_path)
+    : fd_(lock_directory(std::filesystem::path(file_path).parent_path(), LOCK_SH)) {}
+DirectoryReadLock::~DirectoryReadLock() {
+  if (fd_ >= 0) ::close(fd_);
+}
 
 void write_file_atomically(const std::string& path, const std::string& suffix,
                            const std::function<void(const std::string&)>& write_to) {
@@ -28,17 +133,31 @@ void write_file_atomically(const std::string& path, const std::string& suffix,
   const fs::path directory = target.has_parent_path() ? target.parent_path() : fs::path(".");
   std::error_code ec;
   if (!fs::is_directory(directory, ec)) throw LutFileError(path + ": directory '" + directory.string() + "' does not exist");
+  remove_stale_temporaries(directory, target.filename().string());
   // Hidden, unique per process and call, in the same directory (the rename stays on one file system).
   const fs::path temporary = directory / ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
                                           std::to_string(counter++) + suffix);
+  register_temporary(temporary.string());  // before it exists: a signal from here on removes it
   try {
     write_to(temporary.string());
-    fs::rename(temporary, target, ec);
-    if (ec) throw LutFileError(path + ": cannot rename the temporary file into place (" + ec.message() + ")");
   } catch (...) {
-    fs::remove(temporary, ec);
+    discard_temporary(temporary.string());
     throw;
   }
+  if (open_group) {
+    open_group->staged_.emplace_back(temporary.string(), target.string());
+    return;
+  }
+  std::string failure;
+  {
+    std::lock_guard<std::mutex> lock(registry().mutex);
+    if (::rename(temporary.c_str(), target.c_str()) != 0) {
+      failure = path + ": cannot rename the temporary file into place (" + std::strerror(errno) + ")";
+      ::unlink(temporary.c_str());
+    }
+    registry().temporaries.erase(temporary.string());
+  }
+  if (!failure.empty()) throw LutFileError(failure);
 }
 
 void write_text_file_atomically(const std::string& path, const std::string& text) {
@@ -116,9 +235,31 @@ std::vector<ExrPart> read_exr(const std::string& path) {
     if (probe.gcount() != 4 || std::memcmp(magic, "\x76\x2f\x31\x01", 4) != 0)
       throw LutFileError(path + ": not an OpenEXR file (wrong magic number)");
   }
+  std::error_code size_error;
+  const double file_bytes = static_cast<double>(std::filesystem::file_size(path, size_error));
   try {
     Imf::MultiPartInputFile file(path.c_str());
     std::vector<ExrPart> parts(static_cast<std::size_t>(file.parts()));
+    // Decoded size of every part from the headers, checked against the file's size before any
+    // pixel buffer is allocated (image_file.h: a 71 KB file claiming 20000^2 pixels took 4.7 GB).
+    double decoded_bytes = 0.0;
+    for (int i = 0; i < file.parts(); ++i) {
+      const Imf::Header& header = file.header(i);
+      const Imath::Box2i window = header.dataWindow();
+      const double width = double(window.max.x) - window.min.x + 1, height = double(window.max.y) - window.min.y + 1;
+      double channels = 0;
+      for (auto c = header.channels().begin(); c != header.channels().end(); ++c) ++channels;
+      const double values = width * height * channels;
+      if (!(width >= 1 && height >= 1) || values > double(std::size_t{1} << 31))
+        throw LutFileError(path + ": part " + std::to_string(i) + " claims " + std::to_string(static_cast<long long>(width)) + "x" +
+                           std::to_string(static_cast<long long>(height)) + " pixels x " + std::to_string(static_cast<int>(channels)) +
+                           " channels: empty or more than 2^31 values (refused)");
+      decoded_bytes += values * sizeof(float);
+    }
+    if (size_error || decoded_bytes > std::max(kExrDecodedBytesFloor, kMaxExrCompressionRatio * file_bytes))
+      throw LutFileError(path + ": header claims " + std::to_string(static_cast<long long>(decoded_bytes)) +
+                         " bytes of pixels in a file of " + std::to_string(static_cast<long long>(file_bytes)) +
+                         " bytes, more than any OpenEXR compression reaches (refused before reading)");
     for (int i = 0; i < file.parts(); ++i) {
       const Imf::Header& header = file.header(i);
       if (header.hasType() && header.type() != Imf::SCANLINEIMAGE)

@@ -2,6 +2,7 @@
 // temporary-file-then-rename write used by every writer.
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdio>
@@ -119,14 +120,19 @@ void check_lut_consistency(const Lut& lut, const std::string& label) {
     if (!(std::isfinite(w) && w > 0.0)) fail("invalid wavelength " + number_text(w));
   if (lut.nodes_per_channel() > (std::size_t{1} << 31)) fail("table too large");
   if (lut.values.size() != lut.nodes_per_channel() * lut.channels()) fail("value count does not match the shape");
-  for (float v : lut.values)
-    if (!std::isfinite(v)) fail("non-finite table value");
+  // A BRDF, R_spec and K are finite and >= 0: a negative value would be printed, interpolated and
+  // rendered as negative reflectance.
+  for (std::size_t i = 0; i < lut.values.size(); ++i)
+    if (!(std::isfinite(lut.values[i]) && lut.values[i] >= 0.0f))
+      fail("table value " + number_text(lut.values[i]) + " at channel " + std::to_string(i / std::max<std::size_t>(1, lut.nodes_per_channel())) +
+           ", node " + std::to_string(i % std::max<std::size_t>(1, lut.nodes_per_channel())) + " is not a finite number >= 0");
   for (const auto* side : {&lut.specular_reflectance, &lut.renormalization}) {
     if (static_cast<int>(side->size()) != lut.channels()) fail("R_spec/K tables missing for some channels");
     for (const auto& table : *side) {
       if (table.size() < 2) fail("R_spec/K table too short");
+      if (table.size() > (std::size_t{1} << 20)) fail("R_spec/K table too long");
       for (float v : table)
-        if (!std::isfinite(v)) fail("non-finite R_spec/K value");
+        if (!(std::isfinite(v) && v >= 0.0f)) fail("R_spec/K value " + number_text(v) + " is not a finite number >= 0");
     }
   }
   if (is_slice) {
@@ -174,19 +180,19 @@ void restore_from_metadata(Lut& lut, const std::map<std::string, std::string>& m
   auto numbers = [&](const char* key, std::size_t count) {
     std::vector<double> v;
     if (!parse_list(get(key), v) || (count && v.size() != count))
-      fail(std::string("malformed header attribute '") + key + "' = '" + get(key) + "'");
+      fail(std::string("malformed header attribute '") + key + "' = '" + message_excerpt(get(key)) + "'");
     return v;
   };
-  if (get("format") != "libbrdf-lut") fail("not a libbrdf table (format '" + get("format") + "')");
-  if (get("format_version") != "1") fail("unsupported table format version '" + get("format_version") + "'");
+  if (get("format") != "libbrdf-lut") fail("not a libbrdf table (format '" + message_excerpt(get("format")) + "')");
+  if (get("format_version") != "1") fail("unsupported table format version '" + message_excerpt(get("format_version")) + "'");
   try {
     lut.layout = layout_from_name(get("layout"));
   } catch (const InvalidArgument&) {
-    fail("unknown layout '" + get("layout") + "'");
+    fail("unknown layout '" + message_excerpt(get("layout")) + "'");
   }
   const std::vector<double> shape = numbers("shape", 3);
   for (int k = 0; k < 3; ++k) {
-    if (!(shape[k] >= 1 && shape[k] <= 1e8 && shape[k] == std::floor(shape[k]))) fail("malformed shape '" + get("shape") + "'");
+    if (!(shape[k] >= 1 && shape[k] <= 1e8 && shape[k] == std::floor(shape[k]))) fail("malformed shape '" + message_excerpt(get("shape")) + "'");
     lut.shape[k] = static_cast<int>(shape[k]);
   }
   lut.wavelengths_um = numbers("wavelengths_um", 0);

@@ -11,13 +11,17 @@
 // the R_spec / K side tables, and reads it back when present. Without a sidecar the reader
 // assigns the RGB wavelengths 0.65, 0.55, 0.45 um, R_spec = 0 and K = 1, and says so in the
 // attributes ("side_tables" = "absent").
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <zlib.h>
 
+#include "libbrdf/error.h"
 #include "libbrdf/lut.h"
 #include "lut_internal.h"
 
@@ -44,6 +48,22 @@ void to_little_endian(T& value) {
 
 std::string sidecar_path(const std::string& path) { return path + ".json"; }
 
+std::string crc32_text(const char* data, std::size_t size) {
+  uLong crc = ::crc32(0L, Z_NULL, 0);
+  while (size > 0) {  // zlib takes uInt lengths
+    const uInt chunk = static_cast<uInt>(std::min<std::size_t>(size, 1u << 30));
+    crc = ::crc32(crc, reinterpret_cast<const Bytef*>(data), chunk);
+    data += chunk;
+    size -= chunk;
+  }
+  char text[16];
+  std::snprintf(text, sizeof text, "%08lx", static_cast<unsigned long>(crc));
+  return text;
+}
+
+// Largest sidecar read (a real one is ~0.1 MB: two 3 x 1441 float tables and the header).
+constexpr std::uintmax_t kMaxSidecarBytes = 16u << 20;
+
 }  // namespace
 
 void write_merl_binary(const Lut& lut, const std::string& path) {
@@ -63,79 +83,112 @@ void write_merl_binary(const Lut& lut, const std::string& path) {
   sidecar["header"] = header;
   sidecar["specular_reflectance"] = lut.specular_reflectance;
   sidecar["renormalization"] = lut.renormalization;
+
+  // The binary's bytes first: the sidecar carries their CRC-32 (zlib) and size, which the reader
+  // checks, so a binary and a sidecar from different bakes are never used together.
+  std::string binary;
+  binary.reserve(sizeof(std::int32_t) * 3 + 3 * nodes * sizeof(double));
+  std::int32_t dims[3] = {kMerlShape[0], kMerlShape[1], kMerlShape[2]};
+  for (std::int32_t& d : dims) to_little_endian(d);
+  binary.append(reinterpret_cast<const char*>(dims), sizeof dims);
+  for (int c = 0; c < 3; ++c) {
+    for (std::size_t i = 0; i < nodes; ++i) {
+      double value = double(lut.values[c * nodes + i]) / kMerlScales[c];
+      to_little_endian(value);
+      binary.append(reinterpret_cast<const char*>(&value), sizeof value);
+    }
+  }
+  sidecar["binary_bytes"] = binary.size();
+  sidecar["binary_crc32"] = crc32_text(binary.data(), binary.size());
   const std::string sidecar_text = sidecar.dump(1);
 
+  // One unit (image_file.h, PublicationGroup): both temporaries written, then both renamed under
+  // an exclusive flock on the directory -- sidecar first, so that a SIGKILL between the renames
+  // leaves either a sidecar without a binary (unreadable) or a pair the checksum rejects.
+  PublicationGroup group;
   write_file_atomically(sidecar_path(path), ".tmp", [&](const std::string& temporary) {
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
     out << sidecar_text << "\n";
     out.close();
     if (!out) throw LutFileError(sidecar_path(path) + ": write failed");
   });
-  try {
-    write_file_atomically(path, ".tmp", [&](const std::string& temporary) {
-      std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-      std::int32_t dims[3] = {kMerlShape[0], kMerlShape[1], kMerlShape[2]};
-      for (std::int32_t& d : dims) to_little_endian(d);
-      out.write(reinterpret_cast<const char*>(dims), sizeof dims);
-      std::vector<double> block(nodes);
-      for (int c = 0; c < 3; ++c) {
-        for (std::size_t i = 0; i < nodes; ++i) {
-          block[i] = double(lut.values[c * nodes + i]) / kMerlScales[c];
-          to_little_endian(block[i]);
-        }
-        out.write(reinterpret_cast<const char*>(block.data()), static_cast<std::streamsize>(nodes * sizeof(double)));
-      }
-      out.close();
-      if (!out) throw LutFileError(path + ": write failed");
-    });
-  } catch (...) {
-    std::error_code ec;
-    std::filesystem::remove(sidecar_path(path), ec);  // no sidecar without its table
-    throw;
-  }
+  write_file_atomically(path, ".tmp", [&](const std::string& temporary) {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out.write(binary.data(), static_cast<std::streamsize>(binary.size()));
+    out.close();
+    if (!out) throw LutFileError(path + ": write failed");
+  });
+  group.publish();
 }
 
 Lut read_merl_binary(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw LutFileError(path + ": cannot open (" + std::strerror(errno) + ")");
+  // Both files are opened under a shared flock on the directory, so a publication of a new pair
+  // (an exclusive flock, image_file.h) is seen entirely or not at all.
+  std::ifstream in, sin;
+  const std::string side = sidecar_path(path);
+  std::error_code ec;
+  bool has_sidecar = false;
+  {
+    DirectoryReadLock lock(path);
+    in.open(path, std::ios::binary);
+    if (!in) throw LutFileError(path + ": cannot open (" + std::strerror(errno) + ")");
+    has_sidecar = std::filesystem::exists(side, ec);
+    if (has_sidecar) {
+      sin.open(side, std::ios::binary);
+      if (!sin) throw LutFileError(side + ": cannot open (" + std::strerror(errno) + ")");
+    }
+  }
+  const std::size_t nodes = std::size_t(90) * 90 * 180;
+  const std::size_t expected = sizeof(std::int32_t) * 3 + 3 * nodes * sizeof(double);
+  // Read at most one byte more than a MERL binary has: longer files are refused without reading them.
+  std::string binary(expected + 1, '\0');
+  in.read(binary.data(), static_cast<std::streamsize>(binary.size()));
+  binary.resize(static_cast<std::size_t>(in.gcount()));
   std::int32_t dims[3] = {0, 0, 0};
-  in.read(reinterpret_cast<char*>(dims), sizeof dims);
-  if (in.gcount() != static_cast<std::streamsize>(sizeof dims)) throw LutFileError(path + ": not a MERL binary (file shorter than its header)");
+  if (binary.size() < sizeof dims) throw LutFileError(path + ": not a MERL binary (file shorter than its header)");
+  std::memcpy(dims, binary.data(), sizeof dims);
   for (std::int32_t& d : dims) to_little_endian(d);
   if (dims[0] != kMerlShape[0] || dims[1] != kMerlShape[1] || dims[2] != kMerlShape[2])
     throw LutFileError(path + ": not a MERL binary (header dimensions " + std::to_string(dims[0]) + "x" +
                        std::to_string(dims[1]) + "x" + std::to_string(dims[2]) + ", expected 90x90x180)");
-  const std::size_t nodes = std::size_t(90) * 90 * 180;
-  const std::uintmax_t expected = sizeof dims + 3 * nodes * sizeof(double);
-  std::error_code ec;
-  const std::uintmax_t size = std::filesystem::file_size(path, ec);
-  if (ec || size != expected)
-    throw LutFileError(path + ": truncated or padded MERL binary (" + std::to_string(ec ? 0 : size) + " bytes, expected " +
+  if (binary.size() != expected)
+    throw LutFileError(path + ": truncated or padded MERL binary (" + (binary.size() > expected ? std::string("more than ") : "") +
+                       std::to_string(binary.size() > expected ? expected : binary.size()) + " bytes, expected " +
                        std::to_string(expected) + ")");
 
   Lut lut;
   lut.layout = LutLayout::merl;
   lut.shape = kMerlShape;
   lut.values.resize(3 * nodes);
-  std::vector<double> block(nodes);
   for (int c = 0; c < 3; ++c) {
-    in.read(reinterpret_cast<char*>(block.data()), static_cast<std::streamsize>(nodes * sizeof(double)));
-    if (in.gcount() != static_cast<std::streamsize>(nodes * sizeof(double))) throw LutFileError(path + ": truncated MERL binary");
     for (std::size_t i = 0; i < nodes; ++i) {
-      to_little_endian(block[i]);
-      const double value = block[i] * kMerlScales[c];
-      if (!std::isfinite(value) || std::abs(value) > 3.0e38)
-        throw LutFileError(path + ": corrupt MERL binary (non-finite or out-of-range value at channel " + std::to_string(c) + ")");
+      double stored = 0.0;
+      std::memcpy(&stored, binary.data() + sizeof dims + (c * nodes + i) * sizeof(double), sizeof stored);
+      to_little_endian(stored);
+      const double value = stored * kMerlScales[c];
+      // A BRDF is finite and >= 0 (MERL's measured files mark missing data with negative values,
+      // which a renderer would take as negative reflectance).
+      if (!std::isfinite(value) || value < 0.0 || value > 3.0e38)
+        throw LutFileError(path + ": corrupt MERL binary (negative, non-finite or out-of-range value " +
+                           std::to_string(value) + " at channel " + std::to_string(c) + ", node " + std::to_string(i) + ")");
       lut.values[c * nodes + i] = static_cast<float>(value);
     }
   }
 
-  const std::string side = sidecar_path(path);
-  if (std::filesystem::exists(side, ec)) {
+  if (has_sidecar) {
     try {
-      std::ifstream sin(side);
+      const std::uintmax_t side_size = std::filesystem::file_size(side, ec);
+      if (ec || side_size > kMaxSidecarBytes)
+        throw LutFileError(side + ": sidecar larger than " + std::to_string(kMaxSidecarBytes) + " bytes (refused)");
       const nlohmann::json j = nlohmann::json::parse(sin);
       if (j.value("format", "") != "libbrdf-merl-sidecar") throw LutFileError(side + ": not a libbrdf MERL sidecar");
+      // The pair check (write_merl_binary): sidecars written before the checksum existed have none.
+      if (j.contains("binary_crc32")) {
+        if (j.at("binary_crc32").get<std::string>() != crc32_text(binary.data(), binary.size()) ||
+            j.value("binary_bytes", std::uint64_t{0}) != binary.size())
+          throw LutFileError(side + ": describes a different binary than " + path +
+                             " (CRC-32 mismatch: the two files come from different bakes; bake again)");
+      }
       std::map<std::string, std::string> metadata;
       for (const auto& [key, value] : j.at("header").items()) metadata[key] = value.get<std::string>();
       std::vector<float> keep_values = std::move(lut.values);
@@ -146,7 +199,7 @@ Lut read_merl_binary(const std::string& path) {
       lut.specular_reflectance = j.at("specular_reflectance").get<std::vector<std::vector<float>>>();
       lut.renormalization = j.at("renormalization").get<std::vector<std::vector<float>>>();
     } catch (const nlohmann::json::exception& e) {
-      throw LutFileError(side + ": corrupt sidecar (" + std::string(e.what()) + ")");
+      throw LutFileError(side + ": corrupt sidecar (" + message_excerpt(e.what()) + ")");
     }
   } else {
     lut.wavelengths_um = {0.65, 0.55, 0.45};

@@ -119,9 +119,10 @@ Model::Model(ModelKind kind, const ModelParameters& p) : kind_(kind), params_(p)
   }
   if (!std::isfinite(p.tolerance) || p.tolerance < 0.0 || p.tolerance >= 1.0)
     throw InvalidArgument("tolerance", "must be in [0, 1) (relative error; 0 = always the series)");
-  require_at_least("rho_d", p.rho_d, 0.0);
-  if (p.rho_s) require_at_least("rho_s", *p.rho_s, 0.0);
-  if (p.sigma_g) require_positive("sigma_g", *p.sigma_g);
+  // Ranges: microfacet.h (kMinSigmaG, kMaxSigmaG, kMaxRhoS).
+  require_in_range("rho_d", p.rho_d, 0.0, 1.0);
+  if (p.rho_s) require_in_range("rho_s", *p.rho_s, 0.0, kMaxRhoS);
+  if (p.sigma_g) require_in_range("sigma_g", *p.sigma_g, kMinSigmaG, kMaxSigmaG);
   if (!(p.series.relative_tolerance > 0.0 && p.series.relative_tolerance < 1e-3))
     throw InvalidArgument("series tolerance", "must be in (0, 1e-3)");
 
@@ -138,6 +139,9 @@ Model::Model(ModelKind kind, const ModelParameters& p) : kind_(kind), params_(p)
       // A perfect mirror has no slope distribution; the BRDF part is then 0 (sigma_s = 0). The
       // polished mapping (eq. 25) does not depend on sigma_s, so the mirror is checked directly.
       if (surface_.sigma_s_um == 0.0 || !(sigma_g_ > 0.0)) sigma_g_ = 0.0;
+      if (sigma_g_ != 0.0 && !(sigma_g_ >= kMinSigmaG))
+        throw InvalidArgument("sigma_g", std::string("the slope mapped from the surface (eq. ") + (polished ? "25" : "20") +
+                                             ") is below 1e-7, a mirror; give sigma_g in [1e-7, 1000]");
     }
   }
   if (needs.k_table) k_table_ = cached_renormalization_table(surface_, p.k_mode);

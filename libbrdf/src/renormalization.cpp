@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 #include <map>
 #include <mutex>
@@ -90,15 +91,25 @@ double outside_integral(const Surface& surface, double theta_i, const Renormaliz
     return (detail::integrate_gauss_legendre(azimuth_rule, 0.0, 0.5 * kPi, f) +
             detail::integrate_gauss_legendre(azimuth_rule, 0.5 * kPi, kPi, f)) / kPi;
   };
-  // Poisson weights from the mode outward until they no longer matter against 1 - e^-g1.
-  const int mode = std::max(1, static_cast<int>(std::floor(g1)));
+  // Poisson weights from the mode outward until they no longer matter against 1 - e^-g1. The term
+  // index is 64-bit (an int overflowed at g1 >= 2^31, sigma_s/lambda ~ 7400, and never ended).
+  // Wide windows are summed every `stride`-th term times the stride: outside_fraction(m) varies on
+  // the scale of m itself, so by the Poisson summation formula (as for the strided series,
+  // mbk_series.h) the relative error is ~exp(-2 pi^2 (sqrt(g1) / stride)^2) = e^-316 with
+  // stride = sqrt(g1)/4, and the sum takes ~80 terms for any g1 instead of ~20 sqrt(g1).
+  // Beyond g1 = 1e18 (and the 64-bit index range) the window, of relative width 1/sqrt(g1) <= 1e-9,
+  // is one point: the sum is (1 - e^-g1) outside_fraction(g1) up to f'' var / 2, relative
+  // ~ a1 / g1^2 < 1e-22 (a1 = pi^2 (l_c/lambda)^2 <= 1e13).
   const double total_weight = -std::expm1(-g1);
+  if (g1 > 1e18) return total_weight * outside_fraction(g1);
+  const std::int64_t stride = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::sqrt(g1) / 4.0));
+  const std::int64_t mode = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::floor(g1)));
   double sum = 0.0;
-  for (int direction : {+1, -1}) {
-    for (int m = (direction > 0 ? mode : mode - 1); m >= 1; m += direction) {
-      const double weight = std::exp(detail::log_poisson_weight(m, g1));
-      sum += weight * outside_fraction(m);
-      if (weight < 1e-17 * total_weight && (direction < 0 || m > g1)) break;
+  for (const std::int64_t direction : {std::int64_t{+1}, std::int64_t{-1}}) {
+    for (std::int64_t m = (direction > 0 ? mode : mode - stride); m >= 1; m += direction * stride) {
+      const double weight = std::exp(detail::log_poisson_weight(m, g1)) * static_cast<double>(stride);
+      sum += weight * outside_fraction(static_cast<double>(m));
+      if (weight < 1e-17 * total_weight && (direction < 0 || static_cast<double>(m) > g1)) break;
     }
   }
   return sum;

@@ -1,7 +1,9 @@
 #pragma once
 // libbrdf error type. Bad input is an error, never a silent clamp (conventions.md, "Domain").
+#include <cstddef>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace libbrdf {
 
@@ -22,5 +24,12 @@ void require_at_least(const char* parameter, double value, double lo, const char
 void require_positive(const char* parameter, double value, const char* unit = "");
 // Polar angle in radians, allowed [0, pi/2): a direction on or below the horizon is an error.
 void require_polar_angle(const char* parameter, double theta_rad);
+// Throws unless lo <= value <= hi (finite); the message names the parameter and the range.
+void require_in_range(const char* parameter, double value, double lo, double hi, const char* unit = "");
+
+// Untrusted text (a CSV line, a file name, a header attribute) for an error message: at most
+// `max_chars` characters, bytes outside printable ASCII written as \xHH, "..." where cut, so a
+// message stays one short line whatever the input (a 50 MB line, raw control characters).
+std::string message_excerpt(std::string_view text, std::size_t max_chars = 60);
 
 }  // namespace libbrdf

@@ -23,7 +23,11 @@ struct ComplexIndex {
   Complex permittivity() const;  // eps = n~^2
 };
 
-// Throws InvalidArgument unless n > 0 and kappa >= 0, both finite.
+// Largest n and kappa accepted. Measured metals and dielectrics stay below ~100 (n, kappa of the
+// infrared metals); 1000 keeps eps = (n + i kappa)^2 (|eps| <= 2e6) and every Fresnel / Stover
+// factor far inside the double range, where --n 1e308 overflowed to NaN.
+inline constexpr double kMaxIndex = 1000.0;
+// Throws InvalidArgument unless 0 < n <= kMaxIndex and 0 <= kappa <= kMaxIndex.
 void validate_index(const ComplexIndex& index);
 
 // Exact unpolarized Fresnel reflectance (|r_s|^2 + |r_p|^2)/2 at incidence angle theta (cos given).

@@ -16,6 +16,14 @@ enum class GeometricTerm { none, smith, vgroove };
 
 // eq. 7: D_g = exp(-tan^2 th / (2 sigma_g^2)) / (2 pi sigma_g^2 cos^4 th). sigma_g > 0.
 double gaussian_facet_distribution(double cos_theta_h, double sigma_g);
+// Range of sigma_g a model accepts (given, or mapped by eqs 20/25). Below 1e-7 the peak of D_g,
+// 1/(2 pi sigma_g^2) > 1.6e13 1/sr, is a mirror no table or renderer resolves (and at 1e-160 it
+// overflowed to NaN); above 1e3 the rms facet slope is beyond vertical walls.
+inline constexpr double kMinSigmaG = 1e-7;
+inline constexpr double kMaxSigmaG = 1e3;
+// Range of the microfacet amplitudes: rho_s in [0, kMaxRhoS] (default K, which is >= 1 and
+// below ~10 for every surface of the domain), rho_d in [0, 1] (a Lambertian albedo).
+inline constexpr double kMaxRhoS = 1000.0;
 
 // G(ti, ts):
 //  none:    1

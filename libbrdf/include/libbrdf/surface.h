@@ -11,7 +11,20 @@ struct Surface {
   double lc_over_lambda() const { return lc_um / wavelength_um; }
 };
 
-// Throws InvalidArgument naming sigma_s, lc or wavelength when out of domain.
+// Domain of the surface. The models depend on sigma_s/lambda and l_c/lambda only, so the bounds
+// are on those ratios (plus finite, positive lengths):
+//   0 <= sigma_s/lambda <= kMaxSigmaOverLambda = 1e150: g of eq. 12 is at most
+//        16 pi^2 (sigma_s/lambda)^2 = 1.6e302, a finite double (the series and its rough limit
+//        are bounded-time up to there); beyond, g overflows and the model means nothing.
+//   kMinLcOverLambda = 1e-6 <= l_c/lambda <= kMaxLcOverLambda = 1e6: the lobe width
+//        1/(pi l_c/lambda) stays between 3e-7 and 3e5 direction cosines: narrower lobes are
+//        below any renderer's resolution and their K table (renormalization.h) needs more
+//        nodes than it allows; wider ones scatter nothing (A ~ (l_c/lambda)^2 -> 0).
+inline constexpr double kMaxSigmaOverLambda = 1e150;
+inline constexpr double kMinLcOverLambda = 1e-6;
+inline constexpr double kMaxLcOverLambda = 1e6;
+
+// Throws InvalidArgument naming sigma_s, lc or wavelength (and the allowed range) when out of domain.
 void validate_surface(const Surface& surface);
 
 }  // namespace libbrdf
