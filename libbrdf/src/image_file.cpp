@@ -103,6 +103,12 @@ void PublicationGroup::publish() {
   std::vector<int> locks;
   for (const std::string& directory : directories) locks.push_back(lock_directory(directory, LOCK_EX));
   std::string failure;
+  // A target that is a directory would fail its rename after the earlier ones succeeded: found
+  // before any rename, so that a group is published entirely or not at all.
+  for (const auto& entry : staged_) {
+    std::error_code ec;
+    if (fs::is_directory(entry.second, ec)) failure = entry.second + ": is a directory; cannot replace it with a file";
+  }
   {
     std::lock_guard<std::mutex> lock(registry().mutex);
     for (const auto& [temporary, target] : staged_) {
