@@ -4,7 +4,7 @@
 set -euo pipefail
 packages=(cmake g++ make pkg-config libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev
           libopenimageio-dev openimageio-tools libopenexr-dev libtbb-dev
-          python3 python3-numpy python3-matplotlib python3-openimageio)
+          python3 python3-dev python3-numpy python3-matplotlib python3-openimageio pybind11-dev)
 if [[ "${1:-}" == "--with-renderers" ]]; then
   packages+=(povray blender)
 fi

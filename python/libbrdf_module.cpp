@@ -1,0 +1,490 @@
+// The Python module `libbrdf`: numpy arrays in, numpy arrays out, through the batch API
+// (libbrdf/batch.h), so that Python, `brdf eval` and the exporters give bit-identical values.
+//
+//   import libbrdf
+//   m = libbrdf.Model("mbk", material="Au", sigma_s=0.05, lc=2, wavelength=0.55)
+//   m(theta_i, theta_s, phi_s)       # degrees, any broadcastable shapes -> float64 array (1/sr)
+//   m.directions(to_light, to_view)  # (..., 3) arrays in the surface frame (normal +z)
+//   lut = libbrdf.bake("mbk", material="Au", sigma_s=0.05, lc=2); lut.error; lut.values
+//   lut = libbrdf.Lut.open("gold.exr"); lut(30, 40, 180, channel=1)
+//
+// Errors: libbrdf.InvalidArgument (a ValueError with .parameter) for out-of-domain values,
+// NaN included; TypeError for arrays of the wrong dtype or shape; libbrdf.LutFileError (an
+// OSError) for unreadable or foreign table files.
+//
+// Model parameters go through the CLI's own option mapping (cli/model_options.cpp, compiled in
+// here) so that every keyword means exactly what the `brdf` option of the same name means.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "libbrdf/batch.h"
+#include "libbrdf/error.h"
+#include "libbrdf/lut.h"
+#include "libbrdf/materials.h"
+#include "libbrdf/models.h"
+#include "libbrdf/version.h"
+#include "model_options.h"
+
+namespace py = pybind11;
+
+namespace {
+
+using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+// Surface and material keywords shared by Model and bake, as the CLI's ModelOptions.
+struct SurfaceKeywords {
+  std::optional<double> sigma_s, lc, n, k, sigma_g, rho_s;
+  double rho_d = 0.0;
+  std::optional<std::string> material;
+  std::string g_term = "smith", k_mode = "plane", sigma_g_mapping = "auto";
+  double tolerance = 1e-6;
+
+  brdf_cli::ModelOptions options(const std::string& name, const std::vector<double>& wavelengths) const {
+    brdf_cli::ModelOptions o;
+    o.model = name;
+    o.sigma_s_um = sigma_s;
+    o.lc_um = lc;
+    o.n = n;
+    o.kappa = k;
+    o.sigma_g = sigma_g;
+    o.rho_s = rho_s;
+    o.rho_d = rho_d;
+    // The CLI's --wavelength text: %.17g round-trips every double exactly (NaN/inf stay errors).
+    for (double w : wavelengths) {
+      char text[40];
+      std::snprintf(text, sizeof text, "%.17g", w);
+      o.wavelengths += (o.wavelengths.empty() ? "" : ",") + std::string(text);
+    }
+    o.material = material.value_or("");
+    o.g_term = g_term;
+    o.k_mode = k_mode;
+    o.sigma_g_mapping = sigma_g_mapping;
+    o.tolerance = tolerance;
+    return o;
+  }
+};
+
+// Python spells the CLI's hyphenated parameters with underscores (g-term -> g_term).
+std::string python_name(std::string parameter) {
+  for (char& c : parameter)
+    if (c == '-') c = '_';
+  return parameter;
+}
+
+// --- numpy input checks -------------------------------------------------------------------------
+
+// Real numbers only (integers and floats; not bool, complex, strings or objects): anything else is
+// a TypeError naming the argument.
+py::array real_array(const py::handle& value, const char* name) {
+  const py::object asarray = py::module_::import("numpy").attr("asarray");  // sys.modules lookup
+  py::array a;
+  try {
+    a = asarray(value);
+  } catch (py::error_already_set&) {  // ragged nested lists and the like
+    throw py::type_error(std::string(name) + ": expected an array of real numbers");
+  }
+  const char kind = a.dtype().kind();
+  if (kind != 'f' && kind != 'i' && kind != 'u')
+    throw py::type_error(std::string(name) + ": expected real numbers (float or integer), got dtype " +
+                         py::str(a.dtype()).cast<std::string>());
+  return a;
+}
+
+std::string shape_string(const py::array& a) {
+  std::string s = "(";
+  for (py::ssize_t d = 0; d < a.ndim(); ++d) s += (d ? ", " : "") + std::to_string(a.shape(d));
+  return s + (a.ndim() == 1 ? ",)" : ")");
+}
+
+// Broadcasts the arguments against each other (numpy rules) and returns contiguous float64 copies
+// (or views, when they already are).
+std::vector<DoubleArray> broadcast(const std::vector<std::pair<py::handle, const char*>>& args) {
+  const py::object broadcast_arrays = py::module_::import("numpy").attr("broadcast_arrays");
+  py::list arrays;
+  std::string names, shapes;
+  for (const auto& [value, name] : args) {
+    py::array a = real_array(value, name);
+    names += (names.empty() ? "" : ", ") + std::string(name);
+    shapes += (shapes.empty() ? "" : " ") + shape_string(a);
+    arrays.append(a);
+  }
+  py::sequence broadcast_result;
+  try {
+    broadcast_result = broadcast_arrays(*arrays);
+  } catch (py::error_already_set&) {
+    throw py::type_error(names + ": shapes " + shapes + " do not broadcast together");
+  }
+  std::vector<DoubleArray> out;
+  for (const auto& a : broadcast_result) out.push_back(DoubleArray::ensure(a));
+  return out;
+}
+
+std::vector<py::ssize_t> shape_of(const py::array& a, py::ssize_t drop_last = 0) {
+  return std::vector<py::ssize_t>(a.shape(), a.shape() + a.ndim() - drop_last);
+}
+
+// A float for 0-d results (as numpy's ufuncs give scalars for scalar input), else the array.
+py::object result(DoubleArray values) {
+  if (values.ndim() == 0) return py::float_(*values.data());
+  return std::move(values);
+}
+
+std::vector<libbrdf::ScatterAngles> angles_from_degrees(const double* ti, const double* ts, const double* ps, std::size_t count) {
+  // The CLI's conversion (scatter_angles_from_degrees), so that values are bit-identical.
+  std::vector<libbrdf::ScatterAngles> angles(count);
+  for (std::size_t k = 0; k < count; ++k) angles[k] = libbrdf::scatter_angles_from_degrees(ti[k], ts[k], ps[k]);
+  return angles;
+}
+
+// f(angles, count, out) on the broadcast degree arrays, without the GIL.
+template <typename Batch>
+py::object over_angles(py::handle theta_i, py::handle theta_s, py::handle phi_s, const Batch& batch) {
+  const auto a = broadcast({{theta_i, "theta_i"}, {theta_s, "theta_s"}, {phi_s, "phi_s"}});
+  DoubleArray out(shape_of(a[0]));
+  const std::size_t count = static_cast<std::size_t>(a[0].size());
+  {
+    py::gil_scoped_release release;
+    const auto angles = angles_from_degrees(a[0].data(), a[1].data(), a[2].data(), count);
+    batch(angles.data(), count, out.mutable_data());
+  }
+  return result(std::move(out));
+}
+
+// A function of theta_i only (degrees), element-wise over any array. Validates like the batch API.
+template <typename F>
+py::object over_theta_i(py::handle theta_i, const F& f) {
+  const DoubleArray a = broadcast({{theta_i, "theta_i"}})[0];
+  DoubleArray out(shape_of(a));
+  const double* in = a.data();
+  double* values = out.mutable_data();
+  const std::size_t count = static_cast<std::size_t>(a.size());
+  for (std::size_t k = 0; k < count; ++k) {  // all validated before anything is computed
+    const double t = libbrdf::degrees_to_radians(in[k]);
+    if (!(std::isfinite(t) && t >= 0.0 && t <= 0.5 * libbrdf::kPi))
+      throw libbrdf::InvalidArgument("theta_i", "must be in [0, 90] degrees (got " + py::str(py::float_(in[k])).cast<std::string>() +
+                                                    ") at index " + std::to_string(k));
+  }
+  {
+    py::gil_scoped_release release;
+    for (std::size_t k = 0; k < count; ++k) values[k] = f(libbrdf::degrees_to_radians(in[k]));
+  }
+  return result(std::move(out));
+}
+
+// --- Model --------------------------------------------------------------------------------------
+
+struct PyModel {
+  std::string name;
+  double wavelength;
+  libbrdf::Model model;
+};
+
+PyModel make_model(const std::string& name, double wavelength, const SurfaceKeywords& kw) {
+  const brdf_cli::ModelOptions o = kw.options(name, {wavelength});
+  const std::vector<double> wavelengths = brdf_cli::channel_wavelengths(o, {0.55});
+  return PyModel{name, wavelengths[0], libbrdf::Model(brdf_cli::parse_model_kind(o), brdf_cli::model_parameters(o, wavelengths[0]))};
+}
+
+py::object evaluate_directions(const PyModel& m, py::handle to_light, py::handle to_view) {
+  py::array l = real_array(to_light, "to_light"), v = real_array(to_view, "to_view");
+  for (const auto& [a, name] : {std::pair{l, "to_light"}, std::pair{v, "to_view"}})
+    if (a.ndim() == 0 || a.shape(a.ndim() - 1) != 3)
+      throw py::type_error(std::string(name) + ": expected an array of shape (..., 3), got " + shape_string(a));
+  const auto a = broadcast({{l, "to_light"}, {v, "to_view"}});
+  DoubleArray out(shape_of(a[0], 1));
+  const std::size_t count = static_cast<std::size_t>(out.size());
+  {
+    py::gil_scoped_release release;
+    libbrdf::evaluate_directions_batch(m.model, a[0].data(), a[1].data(), count, out.mutable_data());
+  }
+  return result(std::move(out));
+}
+
+py::dict parameters_dict(const PyModel& m) {
+  const libbrdf::ModelParameters& p = m.model.parameters();
+  py::dict d;
+  d["sigma_s"] = p.sigma_s_um ? py::cast(*p.sigma_s_um) : py::none();
+  d["lc"] = p.lc_um ? py::cast(*p.lc_um) : py::none();
+  d["wavelength"] = p.wavelength_um;
+  d["n"] = p.index ? py::cast(p.index->n) : py::none();
+  d["k"] = p.index ? py::cast(p.index->kappa) : py::none();
+  d["sigma_g"] = m.model.sigma_g();
+  d["rho_s"] = p.rho_s ? py::cast(*p.rho_s) : py::none();
+  d["rho_d"] = p.rho_d;
+  d["tolerance"] = p.tolerance;
+  return d;
+}
+
+// --- Lut ----------------------------------------------------------------------------------------
+
+py::object lut_lookup(const libbrdf::Lut& lut, py::handle theta_i, py::handle theta_s, py::handle phi_s, int channel) {
+  // A slice holds only the geometries with cos 2theta_d = L.V (eq. 5), as `brdf eval --lut` checks.
+  double cos_lv = 0.0;
+  const bool slice = lut.layout == libbrdf::LutLayout::slice;
+  if (slice) {
+    const libbrdf::Direction l = lut.light, v = lut.view;
+    cos_lv = (l.x * v.x + l.y * v.y + l.z * v.z) / std::sqrt((l.x * l.x + l.y * l.y + l.z * l.z) * (v.x * v.x + v.y * v.y + v.z * v.z));
+  }
+  return over_angles(theta_i, theta_s, phi_s, [&](const libbrdf::ScatterAngles* angles, std::size_t count, double* out) {
+    libbrdf::lookup_batch(lut, channel, angles, count, out);
+    if (!slice) return;
+    for (std::size_t k = 0; k < count; ++k) {
+      const double c = libbrdf::make_scatter_geometry(angles[k]).cos_2theta_d;
+      if (std::abs(c - cos_lv) > 1e-6)
+        throw libbrdf::InvalidArgument("phi_s", "not a geometry of this slice table at index " + std::to_string(k) +
+                                                    ": cos 2theta_d = " + std::to_string(c) + ", the table's L.V = " +
+                                                    std::to_string(cos_lv) + " (eq. 5)");
+    }
+  });
+}
+
+py::dict error_dict(const libbrdf::LutError& e) {
+  py::dict d;
+  d["max_relative"] = e.max_relative;
+  d["rms_relative"] = e.rms_relative;
+  d["max_relative_all"] = e.max_relative_all;
+  d["floor"] = e.floor;
+  d["samples"] = e.samples;
+  d["theta_limit_deg"] = e.theta_limit_deg;
+  return d;
+}
+
+libbrdf::Direction direction(const std::optional<std::array<double, 3>>& d, const char* name) {
+  if (!d) throw libbrdf::InvalidArgument(name, "required by layout slice (world direction, 3 numbers)");
+  const auto& v = *d;
+  for (double c : v) libbrdf::require_finite(name, c);
+  if (!(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] > 0.0)) throw libbrdf::InvalidArgument(name, "must be a nonzero vector");
+  return {v[0], v[1], v[2]};
+}
+
+// libbrdf.bake: the CLI's `brdf bake` without the file (Lut.save writes it).
+libbrdf::Lut bake(const std::string& name, const std::vector<double>& wavelengths, const std::string& layout,
+                  const std::optional<std::vector<int>>& resolution, const std::optional<double>& target_error,
+                  const std::optional<std::array<double, 3>>& light, const std::optional<std::array<double, 3>>& view,
+                  int error_samples, double error_floor, std::uint64_t seed, const SurfaceKeywords& kw) {
+  const brdf_cli::ModelOptions o = kw.options(name, wavelengths);
+  libbrdf::BakeRequest request;
+  request.model = brdf_cli::parse_model_kind(o);
+  request.layout = libbrdf::layout_from_name(layout);
+  const bool slice = request.layout == libbrdf::LutLayout::slice;
+  if (slice) {
+    request.light = direction(light, "light");
+    request.view = direction(view, "view");
+  } else if (light || view) {
+    throw libbrdf::InvalidArgument(light ? "light" : "view", "only used by layout slice");
+  }
+  if (resolution) {
+    const std::size_t axes = slice ? 2 : 3;
+    if (resolution->size() != axes)
+      throw libbrdf::InvalidArgument("resolution", "expected " + std::to_string(axes) + " node counts");
+    std::array<int, 3> nodes{1, 1, 1};
+    for (std::size_t k = 0; k < axes; ++k) {
+      if ((*resolution)[k] < 2 || (*resolution)[k] > 4096)
+        throw libbrdf::InvalidArgument("resolution", "node counts per axis must be in [2, 4096] (got " +
+                                                         std::to_string((*resolution)[k]) + ")");
+      nodes[k] = (*resolution)[k];
+    }
+    request.resolution = nodes;
+  }
+  request.target_error = target_error;
+  request.error_samples = error_samples;
+  request.error_floor_fraction = error_floor;
+  request.seed = seed;
+  for (double w : brdf_cli::channel_wavelengths(o, {0.65, 0.55, 0.45})) request.channels.push_back(brdf_cli::model_parameters(o, w));
+
+  // Ctrl-C: the progress callback (calling thread) looks for a pending KeyboardInterrupt.
+  std::atomic<bool> cancel{false};
+  bool interrupted = false;
+  request.cancel = &cancel;
+  request.progress = [&](double) {
+    py::gil_scoped_acquire acquire;
+    if (PyErr_CheckSignals() != 0) {
+      interrupted = true;
+      cancel.store(true);
+    }
+  };
+  try {
+    py::gil_scoped_release release;
+    return libbrdf::bake(request);
+  } catch (const libbrdf::BakeCancelled&) {
+    if (interrupted) throw py::error_already_set();
+    throw;
+  }
+}
+
+py::array_t<float> lut_values(const libbrdf::Lut& lut, py::handle owner) {
+  // A read-only view of the table: [channel][i0][i1][i2] (slice: i2 has one node).
+  const std::vector<py::ssize_t> shape{lut.channels(), lut.shape[0], lut.shape[1], lut.shape[2]};
+  py::array_t<float> view(shape, lut.values.data(), owner);
+  view.attr("setflags")(py::arg("write") = false);
+  return view;
+}
+
+bool ends_with(const std::string& text, const std::string& suffix) {
+  return text.size() >= suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(libbrdf, m) {
+  m.doc() = "libbrdf: MBK, Beckmann-Kirchhoff and microfacet BRDFs (Butler, Nauyoks & Marciniak 2015) on numpy arrays";
+  m.attr("__version__") = libbrdf::kVersion;
+
+  // InvalidArgument -> libbrdf.InvalidArgument(ValueError) with .parameter (Python spelling).
+  // Handles, not objects: a static py::object would be released after the interpreter is gone
+  // (the module attributes keep the types alive).
+  static const py::handle invalid_argument =
+      py::exception<libbrdf::InvalidArgument>(m, "InvalidArgument", PyExc_ValueError).release();
+  static const py::handle lut_file_error = py::exception<libbrdf::LutFileError>(m, "LutFileError", PyExc_OSError).release();
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const libbrdf::InvalidArgument& e) {
+      const std::string parameter = python_name(e.parameter());
+      const std::string message = parameter + std::string(e.what()).substr(e.parameter().size());
+      py::object instance = invalid_argument(message);
+      instance.attr("parameter") = parameter;
+      PyErr_SetObject(invalid_argument.ptr(), instance.ptr());
+    } catch (const libbrdf::LutFileError& e) {
+      PyErr_SetString(lut_file_error.ptr(), e.what());
+    }
+  });
+
+  m.def("model_names", [] {
+    std::vector<std::string> names;
+    for (auto kind : libbrdf::all_models()) names.emplace_back(libbrdf::model_name(kind));
+    return names;
+  }, "Every quantity `Model` (and `brdf eval --model`) accepts, in the CLI's order.");
+  m.def("materials", [] {
+    py::dict d;
+    for (const auto& info : libbrdf::builtin_materials())
+      d[py::str(info.name)] = py::dict(py::arg("description") = info.description, py::arg("source") = info.source,
+                                       py::arg("wavelength_range_um") = py::make_tuple(info.min_wavelength_um, info.max_wavelength_um));
+    return d;
+  }, "Built-in materials (name -> description, source, tabulated wavelength range in um).");
+
+  py::class_<PyModel>(m, "Model", R"doc(
+A model (a named quantity of `brdf eval --model`) of one surface at one wavelength.
+
+Model(name, *, sigma_s=None, lc=None, wavelength=0.55, n=None, k=None, material=None,
+      sigma_g=None, rho_s=None, rho_d=0.0, g_term="smith", k_mode="plane",
+      sigma_g_mapping="auto", tolerance=1e-6)
+
+Every keyword means what the `brdf` option of the same name means (--sigma-s, --lc, ...):
+lengths in micrometres, n + i k the complex index (or material="Au", ... at the wavelength).
+Out-of-domain values raise libbrdf.InvalidArgument (a ValueError) naming the parameter.
+)doc")
+      .def(py::init([](const std::string& name, std::optional<double> sigma_s, std::optional<double> lc, double wavelength,
+                       std::optional<double> n, std::optional<double> k, std::optional<std::string> material,
+                       std::optional<double> sigma_g, std::optional<double> rho_s, double rho_d, std::string g_term,
+                       std::string k_mode, std::string sigma_g_mapping, double tolerance) {
+             SurfaceKeywords kw{sigma_s, lc, n, k, sigma_g, rho_s, rho_d, material, g_term, k_mode, sigma_g_mapping, tolerance};
+             return make_model(name, wavelength, kw);
+           }),
+           py::arg("name"), py::kw_only(), py::arg("sigma_s") = py::none(), py::arg("lc") = py::none(),
+           py::arg("wavelength") = 0.55, py::arg("n") = py::none(), py::arg("k") = py::none(),
+           py::arg("material") = py::none(), py::arg("sigma_g") = py::none(), py::arg("rho_s") = py::none(),
+           py::arg("rho_d") = 0.0, py::arg("g_term") = "smith", py::arg("k_mode") = "plane",
+           py::arg("sigma_g_mapping") = "auto", py::arg("tolerance") = 1e-6)
+      .def("__call__", [](const PyModel& self, py::handle theta_i, py::handle theta_s, py::handle phi_s) {
+             return over_angles(theta_i, theta_s, phi_s, [&](const libbrdf::ScatterAngles* a, std::size_t count, double* out) {
+               libbrdf::evaluate_batch(self.model, a, count, out);
+             });
+           }, py::arg("theta_i"), py::arg("theta_s"), py::arg("phi_s"),
+           "Values at angles in degrees (theta from the normal, phi_i = 0, in-plane forward scatter phi_s = 180), "
+           "broadcast like numpy; the same values as `brdf eval`. Polar angles must be in [0, 90).")
+      .def("directions", &evaluate_directions, py::arg("to_light"), py::arg("to_view"),
+           "Values for direction arrays of shape (..., 3) in the surface frame (normal +z), both pointing away from "
+           "the surface, any nonzero length; broadcast against each other.")
+      .def("specular_reflectance", [](const PyModel& self, py::handle theta_i) {
+             return over_theta_i(theta_i, [&](double t) { return self.model.specular_reflectance(t); });
+           }, py::arg("theta_i"), "R_spec(theta_i) = F(ti) exp(-g(ti, ti)), the specular spike's reflectance (0 for models without one); degrees.")
+      .def("renormalization", [](const PyModel& self, py::handle theta_i) {
+             return over_theta_i(theta_i, [&](double t) { return self.model.renormalization(t); });
+           }, py::arg("theta_i"), "K(theta_i) as this model uses it (1 where it has none); degrees.")
+      .def_readonly("name", &PyModel::name)
+      .def_readonly("wavelength", &PyModel::wavelength)
+      .def_property_readonly("sigma_g", [](const PyModel& self) { return self.model.sigma_g(); },
+                             "The microfacet slope parameter in use (given or mapped by eqs 20/25; 0 if none).")
+      .def_property_readonly("parameters", &parameters_dict)
+      .def("__repr__", [](const PyModel& self) {
+        return "libbrdf.Model('" + self.name + "', wavelength=" + py::str(py::float_(self.wavelength)).cast<std::string>() + ")";
+      });
+
+  py::class_<libbrdf::Lut>(m, "Lut", "A baked table (libbrdf.bake or Lut.open): lookups on arrays, its measured error, its values.")
+      .def_static("open", [](const std::string& path) {
+        py::gil_scoped_release release;
+        return libbrdf::read_lut_file(path);
+      }, py::arg("path"), "Reads an OpenEXR table or a MERL binary (chosen by content).")
+      .def("__call__", &lut_lookup, py::arg("theta_i"), py::arg("theta_s"), py::arg("phi_s"), py::kw_only(), py::arg("channel") = 0,
+           "Interpolated values of one channel at angles in degrees, as `brdf eval --lut`.")
+      .def("specular_reflectance", [](const libbrdf::Lut& self, py::handle theta_i, int channel) {
+             if (channel < 0 || channel >= self.channels()) throw libbrdf::InvalidArgument("channel", "out of range");
+             return over_theta_i(theta_i, [&](double t) { return self.specular_at(channel, t); });
+           }, py::arg("theta_i"), py::kw_only(), py::arg("channel") = 0)
+      .def("renormalization", [](const libbrdf::Lut& self, py::handle theta_i, int channel) {
+             if (channel < 0 || channel >= self.channels()) throw libbrdf::InvalidArgument("channel", "out of range");
+             return over_theta_i(theta_i, [&](double t) { return self.renormalization_at(channel, t); });
+           }, py::arg("theta_i"), py::kw_only(), py::arg("channel") = 0)
+      .def("save", [](const libbrdf::Lut& self, const std::string& path) {
+             py::gil_scoped_release release;
+             if (ends_with(path, ".binary")) libbrdf::write_merl_binary(self, path);
+             else if (ends_with(path, ".exr")) libbrdf::write_lut_exr(self, path);
+             else throw libbrdf::InvalidArgument("path", "must end in .exr (OpenEXR) or .binary (MERL) (got '" + path + "')");
+           }, py::arg("path"), "Writes the table (.exr, or .binary for the merl layout with 3 channels); no partial file on failure.")
+      .def_property_readonly("layout", [](const libbrdf::Lut& self) { return std::string(libbrdf::layout_name(self.layout)); })
+      .def_property_readonly("shape", [](const libbrdf::Lut& self) { return self.shape; })
+      .def_property_readonly("wavelengths", [](const libbrdf::Lut& self) { return self.wavelengths_um; })
+      .def_property_readonly("channels", &libbrdf::Lut::channels)
+      .def_property_readonly("error", [](const libbrdf::Lut& self) { return error_dict(self.error); },
+                             "Measured at bake time against the model at random off-grid points (lut.h, LutError).")
+      .def_property_readonly("attributes", [](const libbrdf::Lut& self) { return self.attributes; })
+      .def_property_readonly("values", [](py::object self) { return lut_values(self.cast<const libbrdf::Lut&>(), self); },
+                             "The table, read-only float32 [channel][i0][i1][i2] (1/sr).")
+      .def("__repr__", [](const libbrdf::Lut& self) {
+        return "libbrdf.Lut(" + std::string(libbrdf::layout_name(self.layout)) + " " + libbrdf::shape_text(self.shape, self.layout) +
+               ", " + std::to_string(self.channels()) + " channel(s))";
+      });
+
+  m.def("bake",
+        [](const std::string& name, py::object wavelength, const std::string& layout, std::optional<std::vector<int>> resolution,
+           std::optional<double> target_error, std::optional<std::array<double, 3>> light, std::optional<std::array<double, 3>> view,
+           int error_samples, double error_floor, std::uint64_t seed, std::optional<double> sigma_s, std::optional<double> lc,
+           std::optional<double> n, std::optional<double> k, std::optional<std::string> material, std::optional<double> sigma_g,
+           std::optional<double> rho_s, double rho_d, std::string g_term, std::string k_mode, std::string sigma_g_mapping,
+           double tolerance) {
+          SurfaceKeywords kw{sigma_s, lc, n, k, sigma_g, rho_s, rho_d, material, g_term, k_mode, sigma_g_mapping, tolerance};
+          // One wavelength (a number) or one per channel (a sequence).
+          std::vector<double> wavelengths;
+          try {
+            wavelengths = py::isinstance<py::sequence>(wavelength) || py::isinstance<py::array>(wavelength)
+                              ? wavelength.cast<std::vector<double>>()
+                              : std::vector<double>{wavelength.cast<double>()};
+          } catch (const py::cast_error&) {
+            throw py::type_error("wavelength: expected a number or a sequence of numbers (um)");
+          }
+          return bake(name, wavelengths, layout, resolution, target_error, light, view, error_samples, error_floor, seed, kw);
+        },
+        py::arg("name"), py::kw_only(), py::arg("wavelength") = py::make_tuple(0.65, 0.55, 0.45),
+        py::arg("layout") = "rusinkiewicz", py::arg("resolution") = py::none(), py::arg("target_error") = py::none(),
+        py::arg("light") = py::none(), py::arg("view") = py::none(), py::arg("error_samples") = 20000,
+        py::arg("error_floor") = 1e-3, py::arg("seed") = 1, py::arg("sigma_s") = py::none(), py::arg("lc") = py::none(),
+        py::arg("n") = py::none(), py::arg("k") = py::none(), py::arg("material") = py::none(), py::arg("sigma_g") = py::none(),
+        py::arg("rho_s") = py::none(), py::arg("rho_d") = 0.0, py::arg("g_term") = "smith", py::arg("k_mode") = "plane",
+        py::arg("sigma_g_mapping") = "auto", py::arg("tolerance") = 1e-6,
+        R"doc(
+Bakes a BRDF into a table, as `brdf bake` (same keywords as Model; wavelength: one per channel,
+default (0.65, 0.55, 0.45)). layout: rusinkiewicz | merl | slice (light=, view= world directions);
+resolution: nodes per axis, or target_error: the smallest table whose measured max relative error
+meets it. Returns a Lut; lut.error holds the measured error. Ctrl-C cancels.
+)doc");
+}

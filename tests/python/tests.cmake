@@ -1,0 +1,8 @@
+# The Python module (issue 12): the same numbers as `brdf eval`, and its array contract.
+# The tests import it from its build directory (no install), as the README's set-up says.
+if(TARGET libbrdf_python)
+  add_python_test(python_eval_contract python/test_python_contract.py)
+  add_python_test(python_module python/test_python_module.py)
+  set_property(TEST python_eval_contract python_module APPEND PROPERTY ENVIRONMENT
+               "PYTHONPATH=$<TARGET_FILE_DIR:libbrdf_python>")
+endif()
