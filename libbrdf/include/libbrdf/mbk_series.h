@@ -19,6 +19,9 @@ namespace libbrdf {
 
 // How the series is summed.
 enum class SeriesMethod {
+  simd,        // the default: terms in SIMD blocks (Google Highway, run-time dispatch), Loader's
+               // form per term, strided where the window is wide with the stride set by the
+               // tolerance (aliasing <= tol/10); see series_plan in mbk_series.cpp.
   every_term,  // every integer m in the window: the reference.
   strided,     // for wide windows (g >~ 60) every d-th term times d: by the Poisson summation
                // formula this equals the full sum up to ~exp(-2 pi^2 (s/d)^2) relative, s the
@@ -28,8 +31,12 @@ enum class SeriesMethod {
 
 struct SeriesOptions {
   double relative_tolerance = 1e-14;  // truncation: dropped tail < tol * sum
-  SeriesMethod method = SeriesMethod::strided;
+  SeriesMethod method = SeriesMethod::simd;
 };
+
+// Above this g every method returns the very-rough limit (eq. 15), whose relative error there is
+// rough_error_estimate(g, c) ~ 1/g: bounded time for g up to the double range (and g = inf).
+inline constexpr double kSeriesRoughLimitG = 1e15;
 
 // Diagnostics of one summation (for tests and benchmarks).
 struct SeriesStats {

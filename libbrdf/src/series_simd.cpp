@@ -1,0 +1,147 @@
+// The MBK series Sigma(g, c) of eq. 11 summed in SIMD blocks: Google Highway with run-time
+// dispatch (one binary runs with SSE2/SSSE3/SSE4, AVX2 or AVX-512 as the CPU allows; nothing is
+// compiled for the build machine only). Why Highway: Debian 12 ships it (libhwy-dev 1.0.3) with
+// vector exp/log/log1p of 1-4 ulp (hwy/contrib/math) and dynamic dispatch built in; xsimd has no
+// run-time dispatch of its own and SLEEF has no portable vector types.
+//
+// Each lane holds one term m of the window (m = m0 + stride * k): its logarithm in C. Loader's
+// saddle-point form (as the scalar reference, mbk_series.cpp), then exp relative to the largest
+// term. Blocks walk up and down from the mode until the geometric tail bound holds (the terms are
+// log-concave in m, so the ratio of the last two lanes bounds every later ratio).
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "series_simd.cpp"
+#include <hwy/foreach_target.h>  // must come before highway.h
+#include <hwy/highway.h>
+#include <hwy/contrib/math/math-inl.h>
+
+#include <cmath>
+
+#include "series_simd.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace libbrdf::detail {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+// ln m! for m = 0..15 (exact where Stirling's series is not yet at double precision).
+constexpr double kLogFactorialSmall[16] = {
+    0.0, 0.0, 0.69314718055994530942, 1.7917594692280550008, 3.1780538303479456196, 4.7874917427820459943,
+    6.5792512120101009951, 8.5251613610654143002, 10.604602902745250228, 12.801827480081469611,
+    15.104412573075515295, 17.502307845873885839, 19.987214495661886150, 22.552163853123422886,
+    25.191221182738681500, 27.899271383840891566};
+
+// ln of term m of Sigma: ln(e^-g g^m / m!) - ln m - c/m, for lanes with m >= 1.
+template <class D, class V = hn::Vec<D>>
+HWY_INLINE V LogTerm(D d, V m, V g, V ln_g, V c) {
+  const hn::RebindToSigned<D> di;
+  const V one = hn::Set(d, 1.0);
+  const V ln_m = hn::Log(d, m);
+  const V inv = hn::Div(one, m);
+  // m < 16: m ln g - g - ln m! with the exact table (no cancellation worth naming at such m).
+  auto small_m = [&] {
+    const auto index = hn::ConvertTo(di, hn::Min(m, hn::Set(d, 15.0)));
+    return hn::Sub(hn::MulSub(m, ln_g, g), hn::GatherIndex(d, kLogFactorialSmall, index));
+  };
+  // m >= 16: Loader (2000): -g bd(m/g) - ln(2 pi m)/2 - delta(m), bd(x) = x ln x - x + 1, with
+  // g bd written through log1p(y), y = (m - g)/g, where |y| < 1/2 (no cancellation near m ~ g).
+  auto large_m = [&] {
+    const V y = hn::Div(hn::Sub(m, g), g);
+    const auto near_mask = hn::Lt(hn::Abs(y), hn::Set(d, 0.5));
+    auto near = [&] { return hn::Mul(g, hn::Sub(hn::Mul(hn::Add(one, y), hn::Log1p(d, hn::Max(y, hn::Set(d, -0.75)))), y)); };
+    auto far = [&] { return hn::Add(hn::Sub(hn::Mul(m, hn::Sub(ln_m, ln_g)), m), g); };
+    const V deviance = hn::AllTrue(d, near_mask)    ? near()
+                       : hn::AllFalse(d, near_mask) ? far()
+                                                    : hn::IfThenElse(near_mask, near(), far());
+    const V inv2 = hn::Mul(inv, inv);
+    // Stirling-series error delta(m) = 1/(12m) - 1/(360m^3) + 1/(1260m^5) - 1/(1680m^7).
+    const V delta = hn::Mul(inv, hn::NegMulAdd(inv2, hn::NegMulAdd(inv2, hn::NegMulAdd(inv2, hn::Set(d, 1.0 / 1680), hn::Set(d, 1.0 / 1260)), hn::Set(d, 1.0 / 360)), hn::Set(d, 1.0 / 12)));
+    return hn::Sub(hn::Neg(deviance), hn::Add(hn::MulAdd(hn::Set(d, 0.5), ln_m, hn::Set(d, 0.91893853320467274178)), delta));
+  };
+  const auto small_mask = hn::Lt(m, hn::Set(d, 16.0));
+  const V log_weight = hn::AllTrue(d, small_mask)    ? small_m()
+                       : hn::AllFalse(d, small_mask) ? large_m()
+                                                     : hn::IfThenElse(small_mask, small_m(), large_m());
+  return hn::Sub(hn::Sub(log_weight, ln_m), hn::Mul(c, inv));
+}
+
+double SumSeriesBlocks(const SeriesPlan& plan, SeriesBlockStats* stats) {
+  const hn::ScalableTag<double> d;
+  using V = hn::Vec<decltype(d)>;
+  const std::size_t n = hn::Lanes(d);
+  const double lanes = static_cast<double>(n), stride = plan.stride;
+  const V g = hn::Set(d, plan.g), ln_g = hn::Set(d, std::log(plan.g)), c = hn::Set(d, plan.c);
+  const V offsets = hn::Mul(hn::Iota(d, 0.0), hn::Set(d, stride));
+  const V one = hn::Set(d, 1.0);
+  // Terms are summed relative to exp(reference), the largest log-term met so far; a block with a
+  // larger one rescales the sum (so an inexact mode guess costs blocks, never overflow).
+  double reference = -HUGE_VAL, sum = 0.0;
+  long long blocks = 0;
+  const double tol = plan.relative_tolerance;
+  alignas(64) double t[HWY_MAX_BYTES / sizeof(double)];
+  // One block: lanes m = base + stride * k (k = 0..n-1, or k = 0..-(n-1) going down), m >= 1 kept.
+  // Returns the last two lanes' terms (in walking order) for the tail bound.
+  auto block = [&](double base, int direction, double* last, double* previous) {
+    const V m_raw = hn::Add(hn::Set(d, base), direction > 0 ? offsets : hn::Neg(offsets));
+    const auto valid = hn::Ge(m_raw, one);
+    const V log_terms = LogTerm(d, hn::Max(m_raw, one), g, ln_g, c);
+    const double block_max = hn::GetLane(hn::MaxOfLanes(d, hn::IfThenElse(valid, log_terms, hn::Set(d, -HUGE_VAL))));
+    if (block_max > reference) {
+      sum = sum > 0.0 ? sum * std::exp(reference - block_max) : 0.0;
+      reference = block_max;
+    }
+    const V terms = hn::IfThenElseZero(valid, hn::Exp(d, hn::Sub(log_terms, hn::Set(d, reference))));
+    sum += hn::GetLane(hn::SumOfLanes(d, terms));
+    ++blocks;
+    hn::Store(terms, d, t);
+    *last = t[n - 1];
+    *previous = n >= 2 ? t[n - 2] : *previous;  // one-lane targets: the previous block's last term
+  };
+  // Stop walking when the remaining tail is below 0.45 tol (each direction; the stride's aliasing
+  // takes at most tol/10, so the total stays below tol). Bounded: terms are log-concave in m away from the
+  // first two, so past the largest term each ratio of consecutive (strided) terms bounds the next.
+  auto tail_done = [&](double last, double previous) {
+    if (last == 0.0) return true;
+    const double ratio = last / previous;
+    return ratio < 1.0 && last * ratio / (1.0 - ratio) <= 0.45 * tol * sum;
+  };
+  // The first block is centred on the mode guess (clipped at m = 1), then walks up and down.
+  const double first = std::max(1.0, plan.mode - std::floor(0.5 * lanes) * stride);
+  double last = 0.0, previous = 0.0;
+  block(first, +1, &last, &previous);
+  for (double base = first + lanes * stride; !tail_done(last, previous); base += lanes * stride) block(base, +1, &last, &previous);
+  // Downward from below the first block, checking after each block.
+  double down_last = 0.0, down_previous = 0.0;
+  if (first > 1.0) {
+    for (double base = first - stride; base >= 1.0; base -= lanes * stride) {
+      block(base, -1, &down_last, &down_previous);
+      if (!(base - stride * (lanes - 1.0) >= 1.0)) break;  // reached m = 1
+      if (tail_done(down_last, down_previous)) break;
+    }
+  }
+  if (stats) stats->blocks = blocks;
+  if (!(sum > 0.0)) return 0.0;
+  const double log_value = reference + std::log(sum * stride);
+  return log_value < -745.0 ? 0.0 : std::exp(log_value);
+}
+
+std::size_t SeriesLanes() { return hn::Lanes(hn::ScalableTag<double>()); }
+const char* SeriesTargetName() { return hwy::TargetName(HWY_TARGET); }
+
+}  // namespace HWY_NAMESPACE
+}  // namespace libbrdf::detail
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace libbrdf::detail {
+HWY_EXPORT(SumSeriesBlocks);
+
+double sum_series_blocks(const SeriesPlan& plan, SeriesBlockStats* stats) {
+  return HWY_DYNAMIC_DISPATCH(SumSeriesBlocks)(plan, stats);
+}
+
+HWY_EXPORT(SeriesLanes);
+HWY_EXPORT(SeriesTargetName);
+std::size_t series_lanes() { return HWY_DYNAMIC_DISPATCH(SeriesLanes)(); }
+const char* series_target_name() { return HWY_DYNAMIC_DISPATCH(SeriesTargetName)(); }
+}  // namespace libbrdf::detail
+#endif

@@ -1,0 +1,25 @@
+#pragma once
+// Internal: the SIMD block summation of the MBK series (series_simd.cpp). The plan (where the
+// window of terms is, its stride, the truncation tolerance) is made by mbk_series.cpp.
+#include <cstddef>
+
+namespace libbrdf::detail {
+
+struct SeriesPlan {
+  double g = 0.0, c = 0.0;          // Sigma(g, c), g > 0 finite, c >= 0 finite
+  double mode = 1.0;                // an integer m >= 1 at (or within a few terms of) the largest term
+  double stride = 1.0;              // integer >= 1: every stride-th term, times stride
+  double relative_tolerance = 1e-14;  // geometric tail bound: dropped tail <= tol * sum
+};
+
+struct SeriesBlockStats {
+  long long blocks = 0;  // SIMD blocks evaluated (each series_lanes() terms)
+};
+
+// Sigma(g, c) of eq. 11 (mbk_series.h) by SIMD blocks; 0 when every term underflows.
+double sum_series_blocks(const SeriesPlan& plan, SeriesBlockStats* stats = nullptr);
+// Doubles per vector of the dispatched target (2 SSE, 4 AVX2, 8 AVX-512) and its name.
+std::size_t series_lanes();
+const char* series_target_name();
+
+}  // namespace libbrdf::detail

@@ -1,0 +1,79 @@
+#!/usr/bin/env python3
+"""`brdf eval --model asf|mbk` per evaluation against a vectorised numpy series, one run.
+
+The numpy reference is what a user would write: the MBK ASF (eq. 11, K = 1) summed over every
+term m = 1 .. max(g) + 10 sqrt(max g) + 10 in log space, vectorised over the points, one thread.
+The CLI is timed on a query file; its CSV parsing and printing are cancelled out by subtracting
+the time of `--model g` (eq. 12, no series) on the same file. Each timing is the best of --repeat.
+
+  tools/bench/eval_vs_numpy.py --brdf build/cli/brdf [--points 200000] [--tolerance 1e-6 ...]
+Prints a CSV: surface,model,tolerance,numpy_ns,cli_ns,speedup,max_rel_diff (CLI vs numpy).
+"""
+import argparse, math, os, subprocess, sys, tempfile, time
+import numpy as np
+
+SURFACES = {  # the issue's surfaces: lambda = 0.5 um, l_c = 2 um
+    "polished": dict(sigma_s=0.005, lc=2.0, wavelength=0.5),
+    "intermediate": dict(sigma_s=0.1, lc=2.0, wavelength=0.5),
+    "rough": dict(sigma_s=0.5, lc=2.0, wavelength=0.5),
+}
+
+
+def numpy_asf(ti, ts, ps, sigma_s, lc, wavelength):
+    ci, cs = np.cos(ti), np.cos(ts)
+    g = (2 * math.pi * sigma_s / wavelength) ** 2 * (ci + cs) ** 2
+    eta2 = np.sin(ti) ** 2 + np.sin(ts) ** 2 + 2 * np.sin(ti) * np.sin(ts) * np.cos(ps)
+    c = math.pi ** 2 * (lc / wavelength) ** 2 * eta2
+    gmax = float(g.max())
+    top = int(gmax + 10 * math.sqrt(gmax) + 10)
+    log_g = np.log(g)
+    total = np.zeros_like(g)
+    for m in range(1, top + 1):
+        total += np.exp(-g + m * log_g - math.lgamma(m + 1) - math.log(m) - c / m)
+    return math.pi * (lc / wavelength) ** 2 * total
+
+
+def time_cli(brdf, args, path, repeat):
+    best = math.inf
+    out = None
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        out = subprocess.run([brdf, "eval", *args, "--queries", path], check=True, capture_output=True, text=True).stdout
+        best = min(best, time.perf_counter() - t0)
+    return best, out
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--brdf", required=True)
+    ap.add_argument("--points", type=int, default=200000)
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--tolerance", nargs="*", default=["1e-6"])
+    a = ap.parse_args()
+    rng = np.random.default_rng(1)
+    deg = np.column_stack([rng.uniform(0, 85, a.points), rng.uniform(0, 85, a.points), rng.uniform(0, 360, a.points)])
+    ti, ts, ps = np.radians(deg.T)
+    print("surface,model,tolerance,numpy_ns,cli_ns,speedup,max_rel_diff")
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "q.csv")
+        np.savetxt(path, deg, delimiter=",", fmt="%.17g")
+        for name, s in SURFACES.items():
+            surface = ["--sigma-s", str(s["sigma_s"]), "--lc", str(s["lc"]), "--wavelength", str(s["wavelength"])]
+            best_np = math.inf
+            for _ in range(a.repeat):
+                t0 = time.perf_counter()
+                ref = numpy_asf(ti, ts, ps, **s)
+                best_np = min(best_np, time.perf_counter() - t0)
+            io, _ = time_cli(a.brdf, ["--model", "g", *surface], path, a.repeat)
+            for tol in a.tolerance:
+                t, out = time_cli(a.brdf, ["--model", "asf", *surface, "--tolerance", tol], path, a.repeat)
+                vals = np.loadtxt(out.splitlines()[1:], delimiter=",")[:, 3]
+                mask = ref > 1e-300
+                diff = float(np.max(np.abs(vals[mask] - ref[mask]) / ref[mask]))
+                per_np, per_cli = best_np / a.points * 1e9, max(t - io, 1e-12) / a.points * 1e9
+                print(f"{name},asf,{tol},{per_np:.1f},{per_cli:.1f},{per_np / per_cli:.2f},{diff:.2e}")
+                sys.stdout.flush()
+
+
+if __name__ == "__main__":
+    main()
