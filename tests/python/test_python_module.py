@@ -143,4 +143,19 @@ for label, kind, call, parameter in cases:
 # Every error message is one line that starts with the parameter.
 e = raises(V, lambda: m(10, [10, 10, nan], 0), "theta_s")
 check(e is not None and "\n" not in str(e) and "query 2" in str(e), f"the message names the query's index: {e}")
+# --- the README's example runs (matplotlib, Agg) and writes its plot --------------------------
+import re  # noqa: E402
+import subprocess  # noqa: E402
+import tempfile  # noqa: E402
+
+readme = open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "README.md")).read()
+blocks = re.findall(r"```python\n(.*?)```", readme, re.S)
+check(len(blocks) == 1 and len(blocks[0].splitlines()) <= 15, "the README has one Python example, at most 15 lines")
+with tempfile.TemporaryDirectory() as tmp:
+    run = subprocess.run([sys.executable, "-c", blocks[0]], cwd=tmp, capture_output=True, text=True,
+                         env=dict(os.environ, MPLBACKEND="Agg"), timeout=120)
+    png = os.path.join(tmp, "in_plane.png")
+    check(run.returncode == 0 and os.path.getsize(png) > 10000 if os.path.exists(png) else False,
+          f"the README example ran and wrote in_plane.png: {run.stderr.strip()[-300:]}")
+
 finish("ok: the Python module's array contract holds")
