@@ -39,7 +39,7 @@ timings="$out/timings.csv"
 echo "stage,title,status,seconds,log" >"$timings"
 failed=()
 stage_no=0
-stage_total=9
+stage_total=10
 
 seconds_since() { awk -v a="$1" -v b="$EPOCHREALTIME" 'BEGIN { printf "%.1f", b - a }'; }
 human() {  # 75.3 -> 1m15s, 8.25 -> 8.2 s
@@ -115,6 +115,10 @@ stage_bake() {
 }
 stage_fig2() { "$py" "$root/tools/report/fig2.py" --brdf "$brdf" --out "$out" "${small_flag[@]}"; }
 stage_models() { "$py" "$root/tools/report/model_plots.py" --brdf "$brdf" --out "$out" "${small_flag[@]}"; }
+stage_albedo() {
+  need_subcommand albedo || return 1
+  "$py" "$root/tools/report/albedo.py" --brdf "$brdf" --out "$out" "${small_flag[@]}"
+}
 stage_bench() {
   need_subcommand bench || return 1
   "$brdf" bench --out "$out" --quick
@@ -150,6 +154,7 @@ fi
 run_stage bake "Bake the default material set (brdf bake)" stage_bake
 run_stage fig2 "Reproduce the paper's Fig. 2 (R_d maps)" stage_fig2
 run_stage models "Plot every model in-plane, polar and over the hemisphere" stage_models
+run_stage albedo "Directional albedo (white furnace) of every model, both K modes (brdf albedo)" stage_albedo
 run_stage bench "Speed against error (brdf bench --quick)" stage_bench
 run_stage povray "POV-Ray comparison renders" stage_povray
 run_stage blender "Blender comparison renders" stage_blender

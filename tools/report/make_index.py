@@ -41,10 +41,15 @@ RENDERS = [
     ("blender", "renders/blender_difference.png",
      "Blender: per-pixel difference of bk, bk-modified and microfacet against mbk."),
 ]
+ALBEDO = [("albedo", "albedo.png",
+           "White furnace: directional albedo a(θi) = ∫ f cos θs dω + R_spec of every model (specular spike "
+           "included; K modes plane — solid — and tis — dashed) for each surface at the design wavelength "
+           "(brdf albedo, adaptive Gauss-Kronrod). Above 1 = energy created.")]
 BENCH = [("bench", "bench.png", "Speed against error of every fast path (brdf bench --quick): time per "
           "evaluation against the relative error to the reference series.")]
 TABLES = {"surfaces": ("models", "surfaces.csv"), "bakes": ("bake", "bakes/bakes.csv"),
-          "fig2": ("fig2", "fig2_summary.csv"), "bench": ("bench", "bench.csv")}
+          "fig2": ("fig2", "fig2_summary.csv"), "bench": ("bench", "bench.csv"),
+          "albedo": ("albedo", "albedo_summary.csv")}
 
 
 def surface_figures(config):
@@ -58,7 +63,7 @@ def promised_files(materials=brdfcli.MATERIALS_FILE):
     """Every file a complete report holds, relative to the report directory."""
     config = brdfcli.load_materials(materials)
     files = ["index.html", "timings.csv", "fig2_rd.npz"]
-    files += [p for _, p, _ in FIG2 + MODEL_FIGURES + surface_figures(config) + RENDERS + BENCH]
+    files += [p for _, p, _ in FIG2 + MODEL_FIGURES + surface_figures(config) + ALBEDO + RENDERS + BENCH]
     files += [p for _, p in TABLES.values()]
     files += [f"bakes/{s['name']}.exr" for s in config["surfaces"]]
     return files
@@ -188,7 +193,8 @@ def main():
              f"job time {total:.0f} s. Models: Butler, Nauyoks &amp; Marciniak, Opt. Express 23, 29100 (2015). "
              f"Angles in degrees (φs = 180° is in-plane forward scatter), lengths in µm, BRDFs in 1/sr.</p>")
     page.add("<p>Contents: <a href='#stages'>stages</a> · <a href='#materials'>materials and bakes</a> · "
-             "<a href='#fig2'>Fig. 2</a> · <a href='#models'>models</a> · <a href='#bench'>speed vs error</a> · "
+             "<a href='#fig2'>Fig. 2</a> · <a href='#models'>models</a> · <a href='#energy'>energy</a> · "
+             "<a href='#bench'>speed vs error</a> · "
              "<a href='#renders'>renders</a></p>")
 
     page.add("<h2 id='stages'>Stages and timings</h2>")
@@ -212,6 +218,12 @@ def main():
     page.add("<h2 id='models'>The models per surface</h2>")
     for item in MODEL_FIGURES + surface_figures(config):
         page.figure(*item)
+
+    page.add("<h2 id='energy'>Energy: directional albedo</h2>")
+    for item in ALBEDO:
+        page.figure(*item)
+    page.table(*TABLES["albedo"], "Per surface, model and K mode: the albedo at θi = 0, 60, 80°, its largest "
+               "value and where, and the θi range where it exceeds 1 (README, “Energy”).")
 
     page.add("<h2 id='bench'>Speed against error</h2>")
     for item in BENCH:
