@@ -205,9 +205,17 @@ void write_lut_exr(const Lut& lut, const std::string& path);
 Lut read_lut_exr(const std::string& path);
 
 // MERL binary (layout merl, exactly 3 channels), plus a JSON sidecar "<path>.json" with the header
-// attributes and the R_spec / K tables (the format has no room for them). Same temporary + rename
-// rule. Without a sidecar read_merl_binary assigns wavelengths 0.65, 0.55, 0.45 um, R_spec = 0,
-// K = 1, and says so in Lut::attributes["side_tables"].
+// attributes and the R_spec / K tables (the format has no room for them). Without a sidecar
+// read_merl_binary assigns wavelengths 0.65, 0.55, 0.45 um, R_spec = 0, K = 1, and says so in
+// Lut::attributes["side_tables"].
+// The pair is one unit: both files are written to temporaries and renamed together, sidecar first,
+// under an exclusive flock(2) on the directory (image_file.h, PublicationGroup), so concurrent
+// bakes to one path publish whole pairs in turn, and SIGINT/SIGTERM (cli/interrupt.h) never
+// separates them. The sidecar carries "binary_crc32" (zlib CRC-32) and "binary_bytes" of the
+// binary; read_merl_binary opens both under a shared flock and refuses a pair whose checksum
+// differs (LutFileError "CRC-32 mismatch"), which is all a SIGKILL between the two renames can
+// leave: a reader never uses a binary with another bake's sidecar. The reader also refuses
+// negative, non-finite or out-of-range values.
 void write_merl_binary(const Lut& lut, const std::string& path);
 Lut read_merl_binary(const std::string& path);
 
