@@ -108,7 +108,9 @@ need_script() {
 }
 
 stage_install() { "$root/scripts/install_deps.sh" --with-renderers; }
-stage_build() { "$root/scripts/build.sh" "$root/build" brdf; }
+# The Python module too: the report's scripts take their numbers from it (tools/report/brdfcli.py),
+# and building it here keeps it from lagging behind a rebuilt brdf.
+stage_build() { "$root/scripts/build.sh" "$root/build" brdf libbrdf_python; }
 stage_bake() {
   need_subcommand bake || return 1
   "$py" "$root/tools/report/bake_materials.py" --brdf "$brdf" --out "$out/bakes" "${small_flag[@]}"
@@ -141,7 +143,7 @@ printf 'libbrdf main job, %s -> %s\n' "$mode" "$out" >&2
 if ((build)); then
   run_stage install "Install missing Debian packages (scripts/install_deps.sh --with-renderers)" stage_install ||
     { echo "run.sh: cannot continue without the packages" >&2; exit 1; }
-  run_stage build "Build libbrdf and the brdf CLI (scripts/build.sh)" stage_build ||
+  run_stage build "Build libbrdf, the brdf CLI and the Python module (scripts/build.sh)" stage_build ||
     { echo "run.sh: cannot continue without a build" >&2; exit 1; }
 else
   skip_stage "Install missing Debian packages" "--no-build"

@@ -1,12 +1,17 @@
-"""Thin wrapper around the `brdf` command-line tool for the report scripts.
+"""The report scripts' (and the render checks') one way to libbrdf's numbers.
 
-Every number in the report comes from `brdf eval` (no physics is re-implemented here): queries
-(theta_i, theta_s, phi_s in degrees) go to `brdf eval --queries -` as CSV on stdin, in one batch
-per call, and the values come back as CSV `theta_i,theta_s,phi_s,value`.
+Every number comes from libbrdf's batch API (no physics is re-implemented here), through the
+Python module `libbrdf` built beside the given `brdf` program (build/cli/brdf -> build/python/):
+numpy arrays in and out, no process start-up, no text. The module gives values bit-identical to
+`brdf eval` (tests/python/test_python_contract.py). Without the module (a `brdf` built alone,
+e.g. `run.sh --no-build` with $BRDF_EXE) queries go to `brdf eval --queries -` as CSV instead.
 """
+import glob
+import importlib.util
 import io
 import json
 import os
+import shutil
 import subprocess
 import sys
 
@@ -44,11 +49,46 @@ def cli_options(**params):
     return args
 
 
+_modules = {}
+
+
+def module_for(brdf):
+    """The `libbrdf` Python module of the build that holds `brdf` (BUILD/cli/brdf -> BUILD/python/
+    libbrdf*.so), or None when that build has none. Loaded from that file, not from sys.path, so
+    that the numbers always come from the same build as the program."""
+    exe = shutil.which(brdf) or brdf
+    directory = os.path.join(os.path.dirname(os.path.dirname(os.path.realpath(exe))), "python")
+    if directory not in _modules:
+        found = sorted(glob.glob(os.path.join(directory, "libbrdf*.so")))
+        module = None
+        if found:
+            spec = importlib.util.spec_from_file_location("libbrdf", found[0])
+            module = importlib.util.module_from_spec(spec)
+            spec.loader.exec_module(module)
+        _modules[directory] = module
+    return _modules[directory]
+
+
 def evaluate(brdf, model, theta_i, theta_s, phi_s, **params):
     """Evaluates `model` at the broadcast arrays of angles (degrees); returns values of that shape.
 
-    Raises BrdfError (with the command and its stderr) when brdf fails or returns a non-finite value.
+    Raises BrdfError (naming the parameter, as brdf would) for bad input or a non-finite value.
     """
+    module = module_for(brdf)
+    if module is not None:
+        params = {key: value for key, value in params.items() if value is not None}
+        try:
+            values = np.asarray(module.Model(model, **params)(theta_i, theta_s, phi_s), dtype=float)
+        except (ValueError, TypeError) as e:
+            raise BrdfError(f"libbrdf.Model({model!r}, {params}): {e}") from None
+        if not np.all(np.isfinite(values)):  # the module's contract; checked as for brdf eval
+            raise BrdfError(f"libbrdf.Model({model!r}, {params}): non-finite value")
+        return values
+    return evaluate_cli(brdf, model, theta_i, theta_s, phi_s, **params)
+
+
+def evaluate_cli(brdf, model, theta_i, theta_s, phi_s, **params):
+    """evaluate() through `brdf eval --queries -` (CSV both ways)."""
     ti, ts, ps = np.broadcast_arrays(np.asarray(theta_i, float), np.asarray(theta_s, float), np.asarray(phi_s, float))
     shape = ti.shape
     queries = np.column_stack([ti.ravel(), ts.ravel(), ps.ravel()])

@@ -4,7 +4,8 @@ R_d = |2F/Q - S| / (2F/Q) (eq. 23) over the scattered hemisphere for five comple
 theta_i = 15, 30, 45, 60 deg, as a 5 x 4 grid of polar maps (phi_s as the polar angle with
 phi_s = 180 deg, in-plane forward scatter, on the right as in the paper; theta_s as the radius).
 
-Every value comes from `brdf eval --model rd --n N --k K`.
+Every value is the `rd` quantity of `brdf eval --model rd --n N --k K`, taken through tools/report/brdfcli.py
+(the libbrdf Python module, bit-identical to brdf eval).
 
 Writes into --out:
   fig2.png          the 5 x 4 maps

@@ -12,7 +12,7 @@ and for all surfaces:
   surfaces.csv           per surface: sigma_s, l_c, g at specular, regime, K, R_spec at 30 and 60 deg
   models_inplane.npz     the in-plane curves (signed theta_s, values per surface, model, theta_i)
 
-Every value comes from `brdf eval`.
+Every value comes from libbrdf through tools/report/brdfcli.py (the Python module, bit-identical to `brdf eval`).
 """
 import argparse
 import csv
@@ -65,7 +65,7 @@ def hemisphere_grid(small):
 
 
 def compute(brdf, surface, small):
-    """All values for one surface: one `brdf eval` call per model (in-plane and hemisphere queries)."""
+    """All values for one surface: one batch per model (in-plane and hemisphere queries)."""
     x, ts_in, ps_in = inplane_grid(small)
     th, ph = hemisphere_grid(small)
     TH, PH = np.meshgrid(th, ph, indexing="ij")
@@ -244,7 +244,7 @@ def main():
     surfaces = config["surfaces"]
     for s in surfaces:
         s["wavelength"] = config["design_wavelength_um"]
-    # Surfaces in parallel (the time goes into matplotlib as much as into brdf eval).
+    # Surfaces in parallel (the time goes mostly into matplotlib).
     jobs = [(args.brdf, s, args.small, args.out) for s in surfaces]
     with multiprocessing.Pool(min(len(jobs), os.cpu_count() or 1)) as pool:
         results = dict(zip([s["name"] for s in surfaces], pool.map(surface_job, jobs)))
