@@ -143,6 +143,20 @@ for label, kind, call, parameter in cases:
 # Every error message is one line that starts with the parameter.
 e = raises(V, lambda: m(10, [10, 10, nan], 0), "theta_s")
 check(e is not None and "\n" not in str(e) and "query 2" in str(e), f"the message names the query's index: {e}")
+# --- Ctrl-C cancels a bake: KeyboardInterrupt, promptly (the whole bake takes ~25 s) ----------
+import signal  # noqa: E402
+
+signal.signal(signal.SIGINT, signal.default_int_handler)
+threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT)).start()
+start = time.perf_counter()
+try:
+    libbrdf.bake("mbk", material="Au", sigma_s=0.1, lc=2.0, resolution=[256, 256, 256])
+    interrupted = False
+except KeyboardInterrupt:
+    interrupted = True
+took = time.perf_counter() - start
+check(interrupted and took < 10.0, f"SIGINT during bake raised KeyboardInterrupt after {took:.1f} s")
+
 # --- the README's example runs (matplotlib, Agg) and writes its plot --------------------------
 import re  # noqa: E402
 import subprocess  # noqa: E402
