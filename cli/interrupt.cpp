@@ -44,6 +44,8 @@ sigset_t handled_signals() {
 }  // namespace
 
 void handle_interrupts(const char* command) {
+  static std::atomic<bool> installed{false};
+  if (installed.exchange(true)) return;  // once per process (main.cpp calls it first thing)
   const sigset_t set = handled_signals();
   pthread_sigmask(SIG_BLOCK, &set, nullptr);
   std::thread(wait_for_signal, set, std::string(command)).detach();

@@ -11,7 +11,8 @@
 // immediate: it does not wait for a parallel loop to notice a flag.
 namespace brdf_cli {
 
-// Call first in the command's action, before any thread is started. `command` names it in the
+// Call before any thread is started: main.cpp does so first thing for `bake` and `export` (so a
+// signal during option parsing is handled too); later calls do nothing. `command` names it in the
 // message ("bake", "export blender").
 void handle_interrupts(const char* command);
 

@@ -4,11 +4,15 @@
 #include <iostream>
 
 #include "commands.h"
+#include "interrupt.h"
 #include "model_options.h"
 #include "libbrdf/error.h"
 #include "libbrdf/version.h"
 
 int main(int argc, char** argv) {
+  // Commands that write files take SIGINT/SIGTERM/SIGHUP from the very start (interrupt.h).
+  if (argc > 1 && (std::string(argv[1]) == "bake" || std::string(argv[1]) == "export"))
+    brdf_cli::handle_interrupts(std::string(argv[1]) == "bake" ? "bake" : argc > 2 && std::string(argv[2]) == "povray" ? "export povray" : "export blender");
   CLI::App app{"brdf: physical-optics BRDFs (MBK, BK, microfacet) evaluated and baked into LUTs"};
   app.set_version_flag("--version", libbrdf::kVersion);
   app.require_subcommand(1);
