@@ -247,6 +247,12 @@ py::object lut_lookup(const libbrdf::Lut& lut, py::handle theta_i, py::handle th
   });
 }
 
+void require_channel(const libbrdf::Lut& lut, int channel) {
+  if (channel < 0 || channel >= lut.channels())
+    throw libbrdf::InvalidArgument("channel", "must be in [0, " + std::to_string(lut.channels() - 1) + "] (got " +
+                                                  std::to_string(channel) + ")");
+}
+
 py::dict error_dict(const libbrdf::LutError& e) {
   py::dict d;
   d["max_relative"] = e.max_relative;
@@ -428,11 +434,11 @@ Out-of-domain values raise libbrdf.InvalidArgument (a ValueError) naming the par
       .def("__call__", &lut_lookup, py::arg("theta_i"), py::arg("theta_s"), py::arg("phi_s"), py::kw_only(), py::arg("channel") = 0,
            "Interpolated values of one channel at angles in degrees, as `brdf eval --lut`.")
       .def("specular_reflectance", [](const libbrdf::Lut& self, py::handle theta_i, int channel) {
-             if (channel < 0 || channel >= self.channels()) throw libbrdf::InvalidArgument("channel", "out of range");
+             require_channel(self, channel);
              return over_theta_i(theta_i, [&](double t) { return self.specular_at(channel, t); });
            }, py::arg("theta_i"), py::kw_only(), py::arg("channel") = 0)
       .def("renormalization", [](const libbrdf::Lut& self, py::handle theta_i, int channel) {
-             if (channel < 0 || channel >= self.channels()) throw libbrdf::InvalidArgument("channel", "out of range");
+             require_channel(self, channel);
              return over_theta_i(theta_i, [&](double t) { return self.renormalization_at(channel, t); });
            }, py::arg("theta_i"), py::kw_only(), py::arg("channel") = 0)
       .def("save", [](const libbrdf::Lut& self, const std::string& path) {

@@ -96,6 +96,7 @@ check(during > 1000, f"another Python thread ran during a {took:.2f} s call ({du
 
 # --- bad input: one clear exception, never a NaN --------------------------------------------
 V, T = libbrdf.InvalidArgument, TypeError
+small_lut = libbrdf.bake("mbk", resolution=[6, 6, 6], error_samples=100, **GOLD)  # one channel
 check(issubclass(V, ValueError) and issubclass(libbrdf.LutFileError, OSError), "InvalidArgument is a ValueError, LutFileError an OSError")
 nan, inf = float("nan"), float("inf")
 cases = [
@@ -136,6 +137,10 @@ cases = [
     ("unknown keyword", T, lambda: libbrdf.Model("mbk", sigma=0.1), None),
     ("missing table file", libbrdf.LutFileError, lambda: libbrdf.Lut.open("/nonexistent/table.exr"), None),
     ("bake of a non-BRDF", V, lambda: libbrdf.bake("g", resolution=[4, 4, 4], **GOLD), None),
+    ("bake resolution of 1 node", V, lambda: libbrdf.bake("mbk", resolution=[1, 4, 4], **GOLD), "resolution"),
+    ("lookup channel out of range", V, lambda: small_lut(30, 30, 180, channel=1), "channel"),
+    ("NaN lookup", V, lambda: small_lut(nan, 30, 180), "theta_i"),
+    ("R_spec table channel out of range", V, lambda: small_lut.specular_reflectance(30, channel=-1), "channel"),
 ]
 for label, kind, call, parameter in cases:
     check(raises(kind, call, parameter) is not None, f"{label}: {kind.__name__}" + (f" naming '{parameter}'" if parameter else ""))
@@ -167,7 +172,7 @@ blocks = re.findall(r"```python\n(.*?)```", readme, re.S)
 check(len(blocks) == 1 and len(blocks[0].splitlines()) <= 15, "the README has one Python example, at most 15 lines")
 with tempfile.TemporaryDirectory() as tmp:
     run = subprocess.run([sys.executable, "-c", blocks[0]], cwd=tmp, capture_output=True, text=True,
-                         env=dict(os.environ, MPLBACKEND="Agg"), timeout=120)
+                         env=dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=os.path.dirname(os.path.abspath(libbrdf.__file__))), timeout=120)
     png = os.path.join(tmp, "in_plane.png")
     check(run.returncode == 0 and os.path.getsize(png) > 10000 if os.path.exists(png) else False,
           f"the README example ran and wrote in_plane.png: {run.stderr.strip()[-300:]}")
