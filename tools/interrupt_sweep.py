@@ -54,6 +54,13 @@ def kinds(brdf, d):
     }
 
 
+def default_signals():
+    """In the child: SIGINT/SIGTERM back to their default (a background shell job ignores SIGINT,
+    and brdf keeps an ignored signal ignored)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+
+
 def snapshot(d, files):
     out = {}
     for f in files:
@@ -127,7 +134,7 @@ def main():
             command, files = kinds(args.brdf, d)[kind]
             before = snapshot(d, files)
             proc = subprocess.Popen(command(rng.choice(["0.05", "0.1", "0.2"])), stdout=subprocess.DEVNULL,
-                                    stderr=subprocess.PIPE)
+                                    stderr=subprocess.PIPE, preexec_fn=default_signals)
             time.sleep(rng.uniform(0.0, 1.2 * durations[kind]))
             proc.send_signal(signum)
             _, err = proc.communicate(timeout=300)
@@ -170,7 +177,8 @@ def main():
             path = f"{d}/c.binary"
             procs = [subprocess.Popen([args.brdf, "bake"] + SURFACE + ["--sigma-s", s, "--error-samples", "2000",
                                                                        "-o", path],
-                                      stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL) for s in ["0.05", "0.2"]]
+                                      stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                      preexec_fn=default_signals) for s in ["0.05", "0.2"]]
             if rng.random() < 0.5:
                 time.sleep(rng.uniform(0.0, 1.2 * durations["bake-merl"]))
                 victim = rng.choice(procs)

@@ -220,7 +220,10 @@ class Interrupts(Case):
                 rng = random.Random(11)
                 for signum in [signal.SIGINT, signal.SIGTERM, signal.SIGINT, signal.SIGTERM]:
                     extra = ["--resolution", "48,48,48"] if layout == "rusinkiewicz" else []
-                    proc = subprocess.Popen(small_bake(target, extra), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+                    # Default dispositions in the child: under a background shell SIGINT arrives ignored,
+                    # and brdf rightly keeps an ignored signal ignored.
+                    proc = subprocess.Popen(small_bake(target, extra), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
                     time.sleep(rng.uniform(0.05, 1.0))
                     proc.send_signal(signum)
                     _, err = proc.communicate(timeout=30)
