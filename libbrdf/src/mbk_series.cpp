@@ -1,5 +1,6 @@
 #include "libbrdf/mbk_series.h"
 
+#include "libbrdf/kernel_table.h"
 #include "poisson.h"
 #include "series_simd.h"
 
@@ -87,6 +88,57 @@ std::int64_t largest_term_index(double g, double c) {
 
 namespace {
 
+// The scalar reference walk: from the largest term (exact index) outward, ln of every
+// stride-th term by Loader's form, until the geometric bound on the rest of the tail (the ratio of
+// consecutive terms only decreases away from the mode) is below tol x the sum; each term (relative
+// to the largest, before the x stride) goes to accumulate(m, term). Returns ln of the largest term
+// (-inf when it underflows: nothing is accumulated then).
+// Stride (allow_stride, for wide windows): Poisson summation, stride <= width/2 keeps the aliasing
+// error ~exp(-8 pi^2) ~ 1e-34; the window must stay 12 widths clear of m = 1, where the sum is cut off.
+template <class Accumulate>
+double walk_series(double g, double c, double tol, bool allow_stride, const Accumulate& accumulate,
+                   std::int64_t* stride_out, std::int64_t* mode_out, long long* evaluated_out) {
+  const std::int64_t mode = largest_term_index(g, c);
+  const double log_peak = log_term(mode, g, c);
+  *mode_out = mode;
+  *stride_out = 1;
+  *evaluated_out = 1;
+  // Everything below the peak's underflow margin is 0 in double precision anyway.
+  if (log_peak < kLogUnderflow - 40.0) return -std::numeric_limits<double>::infinity();
+  std::int64_t stride = 1;
+  if (allow_stride && mode > 64) {
+    const double ln_g = std::log(g);
+    const double curvature = log_ratio(mode - 1, ln_g, c) - log_ratio(mode, ln_g, c);
+    const double width = 1.0 / std::sqrt(std::max(curvature, 1e-300));
+    if (static_cast<double>(mode) - 12.0 * width > 1.0) stride = std::max<std::int64_t>(1, static_cast<std::int64_t>(width / 2.0));
+  }
+  *stride_out = stride;
+  double sum = 1.0;
+  accumulate(mode, 1.0);
+  long long evaluated = 1;
+  auto walk = [&](std::int64_t step) {
+    double previous = 1.0;
+    for (std::int64_t m = mode + step; m >= 1; m += step) {
+      const double term = std::exp(log_term(m, g, c) - log_peak);
+      ++evaluated;
+      sum += term;
+      accumulate(m, term);
+      const double ratio = term / previous;
+      if (ratio < 1.0 && term * ratio / (1.0 - ratio) <= tol * sum) break;
+      if (term == 0.0) break;
+      previous = term;
+    }
+  };
+  walk(stride);
+  walk(-stride);
+  *evaluated_out = evaluated;
+  return log_peak;
+}
+
+}  // namespace
+
+namespace {
+
 // A guess of the largest term's index: the root of h(L) = ln g - L + c e^{-2L}, L = ln m (the
 // continuous stationarity condition of ln t_m without its O(1/m) terms). h is decreasing and
 // convex; safeguarded Newton inside a bracket [lo, hi] with h(lo) > 0 > h(hi): at lo <= ln g,
@@ -146,7 +198,9 @@ double mbk_series_sum(double g, double c, const SeriesOptions& options, SeriesSt
   if (!(g > 0.0) || c == std::numeric_limits<double>::infinity()) return 0.0;  // sigma_s = 0: no scatter
   // Beyond g = 1e15 the very-rough limit eq. 15 is the series to rough_error_estimate(g, c)
   // (~1e-15 relative): summing ~sqrt(g) terms there would only take time (g = inf gives 0).
-  if (g > kSeriesRoughLimitG) {
+  // From g ~ 1e10 the SIMD sum's rounding (~eps sqrt(g), in Loader's deviance) exceeds the limit's
+  // own error wherever that is below 1e-9.
+  if (g > kSeriesRoughLimitG || (g > 1e10 && rough_error_estimate(g, c) < 1e-9)) {
     if (stats) *stats = SeriesStats{0, 0, 0};
     return mbk_series_rough(g, c);
   }
@@ -158,45 +212,37 @@ double mbk_series_sum(double g, double c, const SeriesOptions& options, SeriesSt
                                     static_cast<long long>(plan.stride), static_cast<long long>(plan.mode)};
     return value;
   }
-  const std::int64_t mode = largest_term_index(g, c);
-  const double log_peak = log_term(mode, g, c);
-  if (stats) *stats = SeriesStats{1, 1, mode};
-  // Everything below the peak's underflow margin is 0 in double precision anyway.
-  if (log_peak < kLogUnderflow - 40.0) return 0.0;
-
-  // Standard deviation of the log-concave window from the curvature at the largest term.
-  std::int64_t stride = 1;
-  if (options.method == SeriesMethod::strided && mode > 64) {
-    const double ln_g = std::log(g);
-    const double curvature = log_ratio(mode - 1, ln_g, c) - log_ratio(mode, ln_g, c);
-    const double width = 1.0 / std::sqrt(std::max(curvature, 1e-300));
-    // Poisson summation: stride <= width/2 keeps the aliasing error ~exp(-8 pi^2) ~ 1e-34;
-    // the window must stay 12 widths clear of m = 1, where the sum is cut off.
-    if (static_cast<double>(mode) - 12.0 * width > 1.0) stride = std::max<std::int64_t>(1, static_cast<std::int64_t>(width / 2.0));
-  }
-
-  const double tol = options.relative_tolerance;
-  double sum = 1.0;  // terms relative to the largest one
-  long long evaluated = 1;
-  // Walk outward in one direction until the geometric bound on the rest of the tail (the ratio of
-  // consecutive terms only decreases away from the mode) is below tol * sum.
-  auto walk = [&](std::int64_t step) {
-    double previous = 1.0;
-    for (std::int64_t m = mode + step; m >= 1; m += step) {
-      const double term = std::exp(log_term(m, g, c) - log_peak);
-      ++evaluated;
-      sum += term;
-      const double ratio = term / previous;
-      if (ratio < 1.0 && term * ratio / (1.0 - ratio) <= tol * sum) break;
-      if (term == 0.0) break;
-      previous = term;
-    }
-  };
-  walk(stride);
-  walk(-stride);
+  long long evaluated = 0;
+  std::int64_t stride = 1, mode = 0;
+  double sum = 0.0;
+  const double log_peak = walk_series(g, c, options.relative_tolerance, options.method == SeriesMethod::strided,
+                                      [&](std::int64_t, double term) { sum += term; }, &stride, &mode, &evaluated);
   if (stats) *stats = SeriesStats{evaluated, stride, mode};
+  if (!(sum > 0.0)) return 0.0;
   const double log_value = log_peak + std::log(sum * static_cast<double>(stride));
   return log_value < kLogUnderflow ? 0.0 : std::exp(log_value);
+}
+
+detail::SeriesMoments detail::series_moments(double g, double c) {
+  detail::SeriesMoments out;
+  std::int64_t stride = 1, mode = 0;
+  long long evaluated = 0;
+  double a = 0.0, b = 0.0, cc = 0.0, d = 0.0, e = 0.0;
+  out.log_scale = walk_series(g, c, 1e-17, true, [&](std::int64_t m, double term) {
+    const double dm = static_cast<double>(m), inv = 1.0 / dm;
+    a += term;
+    b += term * (dm - g);
+    cc += term * inv;
+    d += term * (dm - g) * inv;
+    e += term * inv * inv;
+  }, &stride, &mode, &evaluated);
+  const double s = static_cast<double>(stride);
+  out.a = a * s;
+  out.b = b * s;
+  out.c = cc * s;
+  out.d = d * s;
+  out.e = e * s;
+  return out;
 }
 
 double mbk_series_polished(double g, double c) { return g * std::exp(-c); }
@@ -245,6 +291,8 @@ double asf_auto(const AsfArguments& args, double tolerance, AsfRegime* regime, c
   // bound), never tighter than asked for by `options`.
   SeriesOptions series = options;
   if (tolerance > 0.0) series.relative_tolerance = std::max(options.relative_tolerance, 0.1 * tolerance);
+  // The fastest form whose error bound meets the tolerance: the closed forms (their leading-order
+  // error estimates), then the kernel table (its certified error, kernel_table.h), else the series.
   AsfRegime chosen = AsfRegime::series;
   double sum;
   if (tolerance > 0.0 && args.g > 0.0 && args.g < 0.5 && polished_error_estimate(args.g, args.c) < tolerance) {
@@ -253,6 +301,9 @@ double asf_auto(const AsfArguments& args, double tolerance, AsfRegime* regime, c
   } else if (tolerance > 0.0 && args.g > 50.0 && rough_error_estimate(args.g, args.c) < tolerance) {
     chosen = AsfRegime::rough;
     sum = mbk_series_rough(args.g, args.c);
+  } else if (tolerance >= kKernelTableCertifiedError && KernelTable::instance().contains(args.g, args.c)) {
+    chosen = AsfRegime::table;
+    sum = KernelTable::instance().sigma(args.g, args.c);
   } else {
     sum = mbk_series_sum(args.g, args.c, series);
   }

@@ -192,7 +192,7 @@ double Model::evaluate_impl(const ScatterGeometry& geo, const double* asf_given)
     case ModelKind::rd: return relative_difference_rd(permittivity_, geo);
     case ModelKind::g: return roughness_g(surface_.sigma_over_lambda(), geo.cos_theta_i, geo.cos_theta_s);
     case ModelKind::eta_r2: return geo.eta_r2;
-    case ModelKind::asf: return asf(surface_, geo, params_.series);
+    case ModelKind::asf: return asf_at(geo);  // K = 1; method by the tolerance (asf_auto)
     case ModelKind::k: return renormalization_direct(surface_, theta_i, params_.k_mode).k;
     case ModelKind::r_spec: return specular_reflectance(theta_i);
     case ModelKind::mbk:  // K Qbar A, eq. 11 x Q (conventions.md: Qbar)

@@ -7,4 +7,5 @@ add_libbrdf_test(libbrdf_core_tests
   ${CMAKE_CURRENT_LIST_DIR}/test_renormalization.cpp
   ${CMAKE_CURRENT_LIST_DIR}/test_models.cpp
   ${CMAKE_CURRENT_LIST_DIR}/test_materials.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/test_hostile_input.cpp)
+  ${CMAKE_CURRENT_LIST_DIR}/test_hostile_input.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/test_kernel_table.cpp)

@@ -36,6 +36,8 @@ struct SeriesOptions {
 
 // Above this g every method returns the very-rough limit (eq. 15), whose relative error there is
 // rough_error_estimate(g, c) ~ 1/g: bounded time for g up to the double range (and g = inf).
+// From g = 1e10 it does so wherever rough_error_estimate < 1e-9: there the limit is more accurate
+// than any double-precision sum (whose rounding grows like eps sqrt(g)).
 inline constexpr double kSeriesRoughLimitG = 1e15;
 
 // Diagnostics of one summation (for tests and benchmarks).
@@ -64,7 +66,7 @@ double polished_error_estimate(double g, double c);
 double rough_error_estimate(double g, double c);
 
 // Which form evaluated the ASF (reported by the regime choice).
-enum class AsfRegime { series, polished, rough };
+enum class AsfRegime { series, polished, rough, table };
 
 // Inputs of the ASF at one geometry: computed once, reused by several models.
 struct AsfArguments {
@@ -77,8 +79,10 @@ AsfArguments asf_arguments(const Surface& surface, const ScatterGeometry& geo);
 // eq. 11 with K = 1, by the series.
 double asf(const Surface& surface, const ScatterGeometry& geo, const SeriesOptions& options = {});
 
-// eq. 11 with K = 1, choosing a closed form where its estimated relative error is below
-// `tolerance` (tolerance 0 = always the series). Reports the regime used.
+// eq. 11 with K = 1 by the fastest method whose error bound is below `tolerance` (relative; 0 =
+// always the series at options' truncation): a closed form where its estimated error is below it,
+// else the universal kernel table (kernel_table.h) where its certified error is, else the series
+// truncated at tolerance/10. Reports the method used.
 double asf_auto(const AsfArguments& args, double tolerance, AsfRegime* regime = nullptr,
                 const SeriesOptions& options = {});
 

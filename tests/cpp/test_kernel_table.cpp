@@ -1,0 +1,138 @@
+// The fast paths of the ASF (issue 9): the SIMD series against the independent long-double
+// reference (test_support.h), and the universal kernel table Sigma(g, c) against the series over
+// its whole domain, at the cells' centres (where bicubic Hermite interpolation errs most).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iostream>
+#include <random>
+
+#include "libbrdf/kernel_table.h"
+#include "libbrdf/mbk_series.h"
+#include "test_support.h"
+
+namespace {
+
+using namespace libbrdf;
+
+// The SIMD series truncated at `tolerance` is within `tolerance` of the long-double reference for
+// g log-uniform over [1e-8, 1e7] (strides active from g ~ 64; beyond 1e7 the long-double
+// reference's lgamma(m + 1) ~ 1e8 has absolute errors ~1e-11 of its own) and c = 0, log-uniform over
+// [1e-3, 1e7], or u g (the lobe of a rough surface). Below ~1e-12 the reference's own precision at
+// g ~ 1e7 (Loader's form in double, ~eps sqrt(g)) sets the floor, so the assertion is max(tolerance, 1e-11).
+void check_simd_series(double tolerance, int samples) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> unit(0, 1);
+  SeriesOptions fast;
+  fast.method = SeriesMethod::simd;
+  fast.relative_tolerance = tolerance;
+  double worst = 0.0;
+  int strided = 0;
+  for (int k = 0; k < samples; ++k) {
+    const double g = std::exp(std::log(1e-8) + unit(rng) * (std::log(1e7) - std::log(1e-8)));
+    const double pick = unit(rng);
+    const double c = pick < 0.1 ? 0.0 : pick < 0.6 ? std::exp(std::log(1e-3) + unit(rng) * std::log(1e10)) : g * 30.0 * unit(rng);
+    const long double log_ref = libbrdf_test::windowed_log_series(g, c, 45);
+    if (log_ref < -700.0L) continue;
+    const double ref = static_cast<double>(std::exp(log_ref));
+    SeriesStats stats;
+    const double value = mbk_series_sum(g, c, fast, &stats);
+    if (stats.stride > 1) ++strided;
+    const double rel = std::abs(value - ref) / ref;
+    worst = std::max(worst, rel);
+    ASSERT_LE(rel, std::max(tolerance, 1e-11)) << "g=" << g << " c=" << c << " stride " << stats.stride;
+  }
+  std::cout << "[ measured ] SIMD series at tolerance " << tolerance << ": max relative error " << worst << " ("
+            << strided << " strided sums)\n";
+  EXPECT_GT(strided, samples / 10) << "the sweep must exercise the strided sum";
+}
+
+TEST(FastSeries, WithinToleranceOnSweep_1e6) { check_simd_series(1e-6, 3000); }
+TEST(FastSeries, WithinToleranceOnSweep_1e9) { check_simd_series(1e-9, 3000); }
+TEST(FastSeries, WithinToleranceOnSweep_1e14) { check_simd_series(1e-14, 2000); }
+
+// Bounded time and the limit for g up to the double range (issue 11: g >= 2^31 hung): beyond
+// kSeriesRoughLimitG every method returns eq. 15, whose error there is ~1/g.
+TEST(FastSeries, HugeAndInfiniteG) {
+  for (double g : {1e12, 1e15, 1e16, 1e100, 1e300}) {
+    for (double c : {0.0, 0.3 * g, 3.0 * g}) {
+      const double value = mbk_series_sum(g, c);
+      ASSERT_TRUE(std::isfinite(value)) << g;
+      const double limit = mbk_series_rough(g, c);
+      if (limit > 0.0) {
+        EXPECT_NEAR(value / limit, 1.0, 2e-10 + rough_error_estimate(g, c)) << "g=" << g << " c=" << c;
+      }
+    }
+  }
+  EXPECT_EQ(mbk_series_sum(INFINITY, 1.0), 0.0);
+  EXPECT_EQ(mbk_series_sum(1.0, INFINITY), 0.0);
+  EXPECT_TRUE(std::isnan(mbk_series_sum(NAN, 1.0)));  // never hidden as a value (callers validate)
+}
+
+// The certified error of the kernel table: every cell of the domain at its centre and at a random
+// point, against the reference series (every term, 1e-16). The claim (kernel_table.h) must hold
+// with a margin of 2 (what a cell centre misses of its worst point).
+TEST(KernelTable, CertifiedErrorHoldsOverTheWholeDomain) {
+  const KernelTable& table = KernelTable::instance();
+  std::cout << "[ measured ] kernel table " << table.nx() << " x " << table.nz() << " nodes, " << static_cast<double>(table.bytes()) / 1e6
+            << " MB, built in " << table.build_seconds() << " s\n";
+  SeriesOptions reference;
+  reference.method = SeriesMethod::every_term;
+  reference.relative_tolerance = 1e-16;
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> unit(0, 1);
+  const double x_max = std::log(kKernelGMax);
+  double worst = 0.0, worst_g = 0.0, worst_z = 0.0;
+  long long compared = 0;
+  for (int i = 0; i + 1 < table.nx(); ++i) {
+    for (int j = 0; j + 1 < table.nz(); j += 3) {  // every third row of cells in z: 1/3 of all cells
+      for (int point = 0; point < 2; ++point) {
+        const double s = point == 0 ? 0.5 : unit(rng), t = point == 0 ? 0.5 : unit(rng);
+        const double x = table.x_min() + (i + s) * table.dx(), z = (j + t) * table.dz();
+        if (x > x_max || z > kKernelZMax) continue;
+        const double g = std::exp(x), c = (g + 1.0) * z * z;
+        if (!table.contains(g, c)) continue;
+        const double ref = mbk_series_sum(g, c, reference);
+        if (!(ref > 1e-300)) continue;
+        const double rel = std::abs(table.sigma(g, c) - ref) / ref;
+        ++compared;
+        if (rel > worst) {
+          worst = rel;
+          worst_g = g;
+          worst_z = z;
+        }
+      }
+    }
+  }
+  std::cout << "[ measured ] kernel table max relative error " << worst << " at g=" << worst_g << " z=" << worst_z
+            << " over " << compared << " points (certified " << kKernelTableCertifiedError << ")\n";
+  EXPECT_GT(compared, 40000);
+  EXPECT_LT(2.0 * worst, kKernelTableCertifiedError);
+}
+
+TEST(KernelTable, DomainEdges) {
+  const KernelTable& table = KernelTable::instance();
+  EXPECT_FALSE(table.contains(0.5 * kKernelGMin, 0.0));
+  EXPECT_FALSE(table.contains(2.0 * kKernelGMax, 0.0));
+  EXPECT_FALSE(table.contains(1.0, 2.0 * (kKernelZMax * kKernelZMax) * 2.0));
+  EXPECT_TRUE(table.contains(kKernelGMin, 0.0));
+  EXPECT_TRUE(table.contains(kKernelGMax, kKernelZMax * kKernelZMax * (kKernelGMax + 1.0)));
+  // The largest g and z uses a cell of the table, not one beyond it (at z = kKernelZMax itself
+  // Sigma ~ e^-900 / g underflows, so z = 25 here).
+  const double g = kKernelGMax, c = 25.0 * 25.0 * (g + 1.0);
+  EXPECT_NEAR(table.sigma(g, c) / mbk_series_sum(g, c), 1.0, kKernelTableCertifiedError);
+}
+
+// asf_auto at a tolerance at or above the certified error uses the table inside its domain, and
+// never below it.
+TEST(KernelTable, ChosenOnlyWhereCertified) {
+  AsfRegime regime;
+  asf_auto(AsfArguments{3.0, 10.0, 1.0}, kKernelTableCertifiedError, &regime);
+  EXPECT_EQ(regime, AsfRegime::table);
+  asf_auto(AsfArguments{3.0, 10.0, 1.0}, 0.5 * kKernelTableCertifiedError, &regime);
+  EXPECT_EQ(regime, AsfRegime::series);
+  asf_auto(AsfArguments{0.5 * kKernelGMin, 1e3, 1.0}, 1e-2, &regime);
+  EXPECT_NE(regime, AsfRegime::table);
+}
+
+}  // namespace
