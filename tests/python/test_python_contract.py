@@ -58,9 +58,10 @@ SURFACES = {
 }
 POINTS = 200
 names = libbrdf.model_names()
-help_text = subprocess.run([BRDF, "eval", "--help"], capture_output=True, text=True).stdout
-checks.check(len(names) == 20 and all(n in open(os.path.join(os.environ["LIBBRDF_ROOT"], "README.md")).read() for n in names),
-             f"model_names() lists the 20 quantities of the README's `brdf eval` table: {names}")
+# The CLI lists its quantities when given an unknown one: the module must know the same ones.
+unknown = subprocess.run([BRDF, "eval", "--model", "no-such-model", "--at", "1,1,1"], capture_output=True, text=True).stderr
+cli_names = unknown[unknown.find("(one of: ") + 9:unknown.rfind(")")].split(", ")
+checks.check(len(names) == 20 and names == cli_names, f"model_names() lists brdf eval's quantities: {names} vs {cli_names}")
 
 compared = 0
 for label, params in SURFACES.items():
