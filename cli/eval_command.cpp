@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "commands.h"
+#include "libbrdf/batch.h"
 #include "libbrdf/error.h"
 #include "libbrdf/lut.h"
 #include "libbrdf/models.h"
@@ -73,7 +74,18 @@ void register_eval(CLI::App& app, ActionTable& actions) {
     const libbrdf::Model model(parse_model_kind(options->model), model_parameters(options->model, wavelengths[0]));
     const std::vector<Query> queries = read_queries(options->at, options->queries);
     if (queries.empty()) throw libbrdf::InvalidArgument("at", "no queries: give --at TI,TS,PHIS or --queries FILE|-");
-    write_evaluations(std::cout, queries, [&](const libbrdf::ScatterAngles& a) { return model.evaluate(a); });
+    // The batch API (libbrdf/batch.h): the same values as every other front end, in parallel.
+    std::vector<libbrdf::ScatterAngles> angles(queries.size());
+    for (std::size_t k = 0; k < queries.size(); ++k)
+      angles[k] = libbrdf::scatter_angles_from_degrees(queries[k].theta_i_deg, queries[k].theta_s_deg, queries[k].phi_s_deg);
+    std::vector<double> values(queries.size());
+    try {
+      libbrdf::evaluate_batch(model, angles.data(), angles.size(), values.data());
+    } catch (const libbrdf::InvalidQuery& e) {
+      throw libbrdf::InvalidArgument(e.parameter(), queries[e.index()].origin + ": " + e.reason());
+    }
+    std::size_t next = 0;  // write_evaluations visits the queries in order
+    write_evaluations(std::cout, queries, [&](const libbrdf::ScatterAngles&) { return values[next++]; });
     return 0;
   });
 }

@@ -36,12 +36,17 @@ void validate_angles(const ScatterAngles* angles, std::size_t count) {
       require_polar_angle("theta_s", angles[k].theta_s);
       require_finite("phi_s", angles[k].phi_s);
     } catch (const InvalidArgument& e) {
-      throw InvalidArgument(e.parameter(), std::string(e.what() + e.parameter().size() + 2) + " at query " + std::to_string(k));
+      throw InvalidQuery(e, k);
     }
   }
 }
 
 }  // namespace
+
+InvalidQuery::InvalidQuery(const InvalidArgument& cause, std::size_t index)
+    : InvalidArgument(cause.parameter(), std::string(cause.what() + cause.parameter().size() + 2) + " (query " + std::to_string(index) + ")"),
+      index_(index),
+      reason_(cause.what() + cause.parameter().size() + 2) {}
 
 void evaluate_batch(const Model& model, const ScatterAngles* angles, std::size_t count, double* values) {
   validate_angles(angles, count);
@@ -58,13 +63,11 @@ void evaluate_directions_batch(const Model& model, const double* to_light, const
     const double* l = to_light + 3 * k;
     const double* v = to_view + 3 * k;
     for (int axis = 0; axis < 3; ++axis) {
-      if (!std::isfinite(l[axis])) throw InvalidArgument("to_light", "components must be finite, at query " + std::to_string(k));
-      if (!std::isfinite(v[axis])) throw InvalidArgument("to_view", "components must be finite, at query " + std::to_string(k));
+      if (!std::isfinite(l[axis])) throw InvalidQuery(InvalidArgument("to_light", "components must be finite"), k);
+      if (!std::isfinite(v[axis])) throw InvalidQuery(InvalidArgument("to_view", "components must be finite"), k);
     }
-    const double ll = std::sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
-    const double vl = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    if (!(ll > 0.0 && l[2] > 0.0)) throw InvalidArgument("to_light", "must point above the surface (z > 0), at query " + std::to_string(k));
-    if (!(vl > 0.0 && v[2] > 0.0)) throw InvalidArgument("to_view", "must point above the surface (z > 0), at query " + std::to_string(k));
+    if (!(l[2] > 0.0)) throw InvalidQuery(InvalidArgument("to_light", "must point above the surface (z > 0)"), k);
+    if (!(v[2] > 0.0)) throw InvalidQuery(InvalidArgument("to_view", "must point above the surface (z > 0)"), k);
     angles[k].theta_i = std::atan2(std::hypot(l[0], l[1]), l[2]);
     angles[k].theta_s = std::atan2(std::hypot(v[0], v[1]), v[2]);
     angles[k].phi_s = std::atan2(v[1], v[0]) - std::atan2(l[1], l[0]);

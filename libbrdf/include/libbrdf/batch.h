@@ -7,18 +7,34 @@
 // query, so results do not depend on the thread count or the chunking.
 #include <cstddef>
 
+#include <string>
+
+#include "libbrdf/error.h"
 #include "libbrdf/geometry.h"
 #include "libbrdf/lut.h"
 #include "libbrdf/models.h"
 
 namespace libbrdf {
 
+// A bad query of a batch: InvalidArgument naming the angle (or direction), plus its index.
+class InvalidQuery : public InvalidArgument {
+ public:
+  InvalidQuery(const InvalidArgument& cause, std::size_t index);
+  std::size_t index() const noexcept { return index_; }
+  const std::string& reason() const noexcept { return reason_; }  // the message without the parameter
+
+ private:
+  std::size_t index_;
+  std::string reason_;
+};
+
 // Batches at least this large are split across threads.
 inline constexpr std::size_t kBatchParallelThreshold = 4096;
 
 // values[k] = model.evaluate(angles[k]) for k < count (radians, conventions.md).
 // Every query is validated first: theta_i, theta_s in [0, pi/2), all finite. A bad query throws
-// InvalidArgument naming the angle and the query's index; nothing is written to `values` then.
+// InvalidQuery (an InvalidArgument) naming the angle and the query's index; nothing is written
+// to `values` then.
 void evaluate_batch(const Model& model, const ScatterAngles* angles, std::size_t count, double* values);
 
 // Same, with directions in the surface frame (normal +z) instead of angles: to_light and to_view
