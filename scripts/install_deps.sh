@@ -3,7 +3,7 @@
 # Usage: scripts/install_deps.sh [--with-renderers]   (renderers: blender, povray)
 set -euo pipefail
 packages=(cmake g++ make pkg-config libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev
-          libopenimageio-dev openimageio-tools libopenexr-dev libtbb-dev libhwy-dev
+          libopenimageio-dev openimageio-tools libopenexr-dev libtbb-dev libhwy-dev libboost-dev zlib1g-dev
           python3 python3-dev python3-numpy python3-matplotlib python3-openimageio pybind11-dev)
 if [[ "${1:-}" == "--with-renderers" ]]; then
   packages+=(povray blender)
