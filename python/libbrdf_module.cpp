@@ -171,7 +171,7 @@ py::object over_theta_i(py::handle theta_i, const F& f) {
     const double t = libbrdf::degrees_to_radians(in[k]);
     if (!(std::isfinite(t) && t >= 0.0 && t <= 0.5 * libbrdf::kPi))
       throw libbrdf::InvalidArgument("theta_i", "must be in [0, 90] degrees (got " + py::str(py::float_(in[k])).cast<std::string>() +
-                                                    ") at index " + std::to_string(k));
+                                                    ") at query " + std::to_string(k));
   }
   {
     py::gil_scoped_release release;
@@ -240,7 +240,7 @@ py::object lut_lookup(const libbrdf::Lut& lut, py::handle theta_i, py::handle th
     for (std::size_t k = 0; k < count; ++k) {
       const double c = libbrdf::make_scatter_geometry(angles[k]).cos_2theta_d;
       if (std::abs(c - cos_lv) > 1e-6)
-        throw libbrdf::InvalidArgument("phi_s", "not a geometry of this slice table at index " + std::to_string(k) +
+        throw libbrdf::InvalidArgument("phi_s", "not a geometry of this slice table at query " + std::to_string(k) +
                                                     ": cos 2theta_d = " + std::to_string(c) + ", the table's L.V = " +
                                                     std::to_string(cos_lv) + " (eq. 5)");
     }
