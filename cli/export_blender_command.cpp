@@ -56,17 +56,26 @@ int run_export_blender(const ExportBlenderOptions& o) {
   e.name = o.name.empty() ? output.stem().string() : o.name;
   for (double w : wavelengths) e.channels.push_back(model_parameters(o.model, w));
   e.spike = libbrdf::blender::spike_fit(kind, e.channels);
-  libbrdf::fit::NativeFit lobes;
+  libbrdf::fit::NativeFit lobes, lobes_eevee;
   if (o.mode == "fit") {
     // --target-error is the fit's (p95 per-pixel error, fit.h); in lut/osl mode the table's.
     libbrdf::fit::FitRequest fit_request;
     fit_request.target_error = o.target_error.value_or(libbrdf::fit::kDefaultTargetError);
     if (!o.resolution.empty()) throw InvalidArgument("resolution", "--mode fit bakes no table (give --target-error for the fit)");
-    lobes = libbrdf::fit::fit_native_lobes(libbrdf::channel_models(kind, e.channels), fit_request);
+    const std::vector<libbrdf::Model> models = libbrdf::channel_models(kind, e.channels);
+    fit_request.shape = libbrdf::fit::LobeShape::beckmann;
+    lobes = libbrdf::fit::fit_native_lobes(models, fit_request);
+    fit_request.shape = libbrdf::fit::LobeShape::ggx;
+    // EEVEE: signed GGX lobes (lit one by one through Shader to RGB in the add-on): a non-negative GGX
+    // mixture cannot fall off like MBK's Gaussian lobe (measured in EEVEE: median error ~45%).
+    fit_request.signed_colours = true;
+    lobes_eevee = libbrdf::fit::fit_native_lobes(models, fit_request);
     e.lobes = &lobes;
-    std::cerr << "fit: " << lobes.lobes.size() << " GGX lobes, per-pixel error median " << 100.0 * lobes.quality.median
-              << "%, p95 " << 100.0 * lobes.quality.p95 << "% (target " << 100.0 * fit_request.target_error << "%"
-              << (lobes.target_met ? "" : ", not met") << ")\n";
+    e.lobes_eevee = &lobes_eevee;
+    for (const auto* f : {&lobes, &lobes_eevee})
+      std::cerr << "fit (" << (f == &lobes ? "Cycles, Beckmann" : "EEVEE, GGX") << "): " << f->lobes.size()
+                << " lobes, per-pixel error median " << 100.0 * f->quality.median << "%, p95 " << 100.0 * f->quality.p95
+                << "% (target " << 100.0 * fit_request.target_error << "%" << (f->target_met ? "" : ", not met") << ")\n";
   }
 
   std::vector<std::string> written;

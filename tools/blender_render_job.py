@@ -9,7 +9,7 @@ JOB.json (written by tools/render_blender_comparison.py and tests/blender/test_b
       "output": PATH.exr,                      # multilayer EXR: Combined + requested passes
       "resolution": [W, H], "samples": 1, "engine": "CYCLES" | "BLENDER_EEVEE", "filter_width": 0.01,
       "camera": {"direction": [x, y, z], "ortho_scale": S},   # direction: from the origin to the camera
-      "sun": {"direction": [x, y, z], "strength": E, "color": [r, g, b], "angle_deg": 0},  # towards the sun
+      "sun": {"direction": [x, y, z], "strength": E, "color": [r, g, b], "angle_deg": 0, "shadow": true},
       "world": [r, g, b],                      # constant background radiance
       "passes": ["normal", "emit", ...],
       "keep_objects": false,                   # true: keep the previous render's objects and materials
@@ -132,6 +132,9 @@ def configure_render(scene, r):
         c.blur_glossy = 0.0
         c.sample_clamp_direct = 0.0
         c.sample_clamp_indirect = 0.0
+        # Cycles' default 0.01 terminates light samples below that contribution at random (0 or
+        # 0.01 per pixel at 1 sample): off, so that dim pixels are exact too.
+        c.light_sampling_threshold = 0.0
     else:
         scene.eevee.taa_render_samples = r.get("samples", 1)
     layer = scene.view_layers[0]
@@ -168,6 +171,7 @@ def main():
         sun.data.energy = r["sun"].get("strength", 1.0)
         sun.data.color = r["sun"].get("color", (1.0, 1.0, 1.0))
         sun.data.angle = math.radians(r["sun"].get("angle_deg", 0.0))
+        sun.data.use_shadow = r["sun"].get("shadow", True)
         camera_direction = mathutils.Vector(r["camera"]["direction"]).normalized()
         cam.location = camera_direction * 10.0
         cam.rotation_euler = look_rotation(camera_direction)

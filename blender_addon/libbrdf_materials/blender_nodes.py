@@ -129,11 +129,27 @@ def attach_group(material, tree, node_name="libbrdf"):
     group.name = node_name
     group.label = tree.name
     group.node_tree = tree
-    output = next((n for n in nodes if n.bl_idname == "ShaderNodeOutputMaterial" and n.is_active_output), None)
+    output = next((n for n in nodes if n.bl_idname == "ShaderNodeOutputMaterial" and n.is_active_output
+                   and n.name != "libbrdf EEVEE output"), None)
     if output is None:
         output = nodes.new("ShaderNodeOutputMaterial")
     group.location = (output.location.x - 300, output.location.y)
     material.node_tree.links.new(group.outputs["Shader"], output.inputs["Surface"])
+    # FIT mode's EEVEE lobes (nodegraph.fit_graph): their own output, the group's "Shader" for Cycles.
+    eevee_name = nodegraph.EEVEE_SHADER_OUTPUT[0]
+    old_eevee = nodes.get("libbrdf EEVEE output")
+    if eevee_name in group.outputs:
+        output.target = "CYCLES"
+        if old_eevee is None:
+            old_eevee = nodes.new("ShaderNodeOutputMaterial")
+            old_eevee.name = "libbrdf EEVEE output"
+        old_eevee.target = "EEVEE"
+        old_eevee.location = (output.location.x, output.location.y - 200)
+        material.node_tree.links.new(group.outputs[eevee_name], old_eevee.inputs["Surface"])
+    else:
+        output.target = "ALL"
+        if old_eevee is not None:
+            nodes.remove(old_eevee)
     return group
 
 

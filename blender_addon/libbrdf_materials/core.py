@@ -32,8 +32,8 @@ MATERIALS = ("Au", "Ag", "Al", "Cu", "Cr", "Ni", "Ti", "Si", "BK7")
 MODES = (
     ("LUT", "Baked table", "Emission from a baked rusinkiewicz table lit by the scene's first Sun, "
                            "plus the specular spike as a mirror lobe; Cycles and EEVEE"),
-    ("FIT", "Native BSDF", "Glossy BSDF (Beckmann) with roughness and Fresnel colour mapped from the "
-                           "surface; path traced, no table"),
+    ("FIT", "Native BSDF", "GGX Glossy lobes fitted to the model (colour following the view angle) plus "
+                           "the spike as a mirror lobe; any lights, shadows, world; no table"),
     ("OSL", "OSL shader", "Script node with a generated OSL shader doing the table lookup; Cycles with OSL"),
 )
 MODE_NAMES = tuple(m[0] for m in MODES)
@@ -45,6 +45,8 @@ DEFAULT_WAVELENGTHS = (0.65, 0.55, 0.45)  # um, R G B
 # 128x64x48 vs the bake's default 90x90x90 (1.85x the nodes): polished Au 3.1% vs 6.6%, satin Cu
 # 1.3% vs 2.6%, rough Ti 0.7% vs 1.1%, rough BK7 0.7% vs 0.9%.
 DEFAULT_RESOLUTION = (128, 64, 48)
+# FIT mode: p95 per-pixel relative error the number of fitted lobes must meet (exporters/fit.h).
+DEFAULT_TARGET_ERROR = 0.1
 
 # Presets: name -> (label, description, parameters). Metals from libbrdf's material table.
 PRESETS = {
@@ -83,6 +85,8 @@ class MaterialRequest:
     mode: str = "LUT"
     resolution: tuple = DEFAULT_RESOLUTION
     name: str = ""
+    target_error: float = DEFAULT_TARGET_ERROR  # FIT mode only
+
 
     def validated(self):
         """Returns a normalized copy or raises RequestError (parameter named, range given)."""
@@ -109,6 +113,8 @@ class MaterialRequest:
         if len(res) != 3 or any(v < 2 or v > 4096 for v in res):
             raise RequestError(f"resolution: three node counts in [2, 4096] (got {tuple(r.resolution)})")
         r.resolution = res
+        if not (isinstance(r.target_error, (int, float)) and math.isfinite(r.target_error) and 0.0 < r.target_error <= 1.0):
+            raise RequestError(f"target_error: must be a relative error in (0, 1] (got {r.target_error!r})")
         if not r.name:
             r.name = default_name(r)
         return r
@@ -151,7 +157,19 @@ def export_arguments(request):
         args += ["--n", _number(request.n), "--k", _number(request.k)]
     if request.mode != "FIT":
         args += ["--resolution", ",".join(str(v) for v in request.resolution)]
+    else:
+        args += ["--target-error", _number(request.target_error)]
     return args
+
+
+def fit_error_text(description):
+    """One line for the panel: the FIT lobes' measured per-pixel error, or '' without a fit."""
+    error = description.get("fit", {}).get("error")
+    if not error:
+        return ""
+    lobes = len(description["fit"].get("lobes", []))
+    met = "" if error.get("target_met", True) else f" (target {error['target_p95']:.0%} not met)"
+    return f"{lobes} lobe{'s' if lobes != 1 else ''}: error median {error['median']:.1%}, p95 {error['p95']:.1%}{met}"
 
 
 def cache_stem(request):

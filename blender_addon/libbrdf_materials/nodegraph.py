@@ -35,6 +35,9 @@ SHADER_OUTPUT = ("Shader", "NodeSocketShader")
 # alpha^2 <= 1e-7 as a perfect mirror; EEVEE gives NaN pixels at exactly 0 (Blender 3.4, seen in
 # tests/blender/test_blender_render.py --engine BLENDER_EEVEE), not at 1e-3.
 MIRROR_ROUGHNESS = 1e-3
+# EEVEE's FIT output: at 1e-3 a sun of Blender's default size gave one NaN pixel at the mirror
+# direction (tests/blender/test_blender_fit.py); 0.02 is still a mirror at EEVEE's resolution.
+EEVEE_MIRROR_ROUGHNESS = 0.02
 
 
 @dataclasses.dataclass
@@ -231,52 +234,127 @@ def _finish(b, g, radiance, spec_weight):
     g.links.append((spec_weight, GROUP_OUTPUT, "Specular Weight"))
 
 
+EEVEE_SHADER_OUTPUT = ("EEVEE Shader", "NodeSocketShader")
+
+
 def fit_graph(description):
-    """FIT mode: Glossy BSDF (Beckmann) per channel, colour k0 * Schlick(F0, theta_v), and the
-    spike as a sharp Glossy weighted by Schlick(F0, theta_v) exp(-g0 cos^2 theta_v)."""
+    """FIT mode: the lobes fitted by `brdf export blender --mode fit` (exporters/fit.h), one Glossy
+    BSDF each, added; lobe colour per channel sum_k c_k B_k(N.V) (Bernstein basis: the colour follows
+    the angle as the model's does); the spike as a sharp Glossy weighted by
+    R_spec ~ Schlick(F0, theta_v) exp(-g0 cos^2 theta_v). Output "Shader": the Beckmann lobes, for
+    Cycles; "EEVEE Shader": GGX lobes fitted for EEVEE, which renders every distribution as GGX
+    (blender_nodes.attach_group gives each its own Material Output target)."""
     fit = description["fit"]
     f0 = _rgb(fit["f0"])
-    k0 = _rgb(fit["k0"])
     g0 = _rgb(fit["g0"])
-    roughness = _rgb(fit["roughness"])
-    g = Graph(name=f"libbrdf {description['name']} (fit)", inputs=list(LIGHT_INPUTS),
-              outputs=[SHADER_OUTPUT, ("Specular Weight", "NodeSocketColor")])
-    g.notes.update(mode="FIT", roughness=roughness, f0=f0)
+    eevee = fit.get("eevee", {})
+    outputs = [SHADER_OUTPUT, ("Specular Weight", "NodeSocketColor")]
+    if eevee:
+        outputs.append(EEVEE_SHADER_OUTPUT)
+    g = Graph(name=f"libbrdf {description['name']} (fit)", inputs=list(LIGHT_INPUTS), outputs=outputs)
+    g.notes.update(mode="FIT", lobes=len(fit.get("lobes", [])), error=fit.get("error", {}))
     b = _Builder(g)
     geometry = b.add("ShaderNodeNewGeometry")
     n_vec = b.vmath("NORMALIZE", Out(geometry.id, "Normal"))
     v_vec = b.vmath("NORMALIZE", Out(geometry.id, "Incoming"))
     cos_v = b.clamp(b.dot(n_vec, v_vec), 0.0, 1.0)
-    schlick_w = b.math("POWER", b.math("SUBTRACT", 1.0, cos_v), 5.0)
-    fresnel = b.vmath("MULTIPLY_ADD", tuple(1.0 - f for f in f0), schlick_w, f0, label="Schlick F")
-    colour = b.vmath("MULTIPLY", fresnel, k0, label="k0 F")
 
-    shaders = []
-    if max(roughness) > 0.0:
-        same = max(roughness) - min(roughness) <= 1e-9 * max(roughness)
-        masks = [(1.0, 1.0, 1.0)] if same else [(1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)]
-        for c, mask in enumerate(masks):
-            glossy = b.add("ShaderNodeBsdfGlossy", {"distribution": "BECKMANN"}, label=f"Beckmann {'RGB'[c] if not same else ''}")
-            b.connect(glossy, "Color", b.vmath("MULTIPLY", colour, mask) if not same else colour)
-            b.connect(glossy, "Roughness", roughness[c])
-            shaders.append(Out(glossy.id, 0))
+    shared, eevee_shared = [], []
     rho_d = float(fit.get("rho_d", 0.0))
     if rho_d > 0.0:
         diffuse = b.add("ShaderNodeBsdfDiffuse")
         b.connect(diffuse, "Color", (rho_d, rho_d, rho_d, 1.0))
-        shaders.append(Out(diffuse.id, 0))
-    cos2 = b.math("MULTIPLY", cos_v, cos_v)
+        shared.append(Out(diffuse.id, 0))
+        eevee_shared.append(Out(diffuse.id, 0))
     if fit.get("has_spike", False):
+        schlick_w = b.math("POWER", b.math("SUBTRACT", 1.0, cos_v), 5.0)
+        fresnel = b.vmath("MULTIPLY_ADD", tuple(1.0 - f for f in f0), schlick_w, f0, label="Schlick F")
+        cos2 = b.math("MULTIPLY", cos_v, cos_v)
         damping = b.combine(*[b.math("EXPONENT", b.math("MULTIPLY", cos2, -g0[c])) for c in range(3)])
         spec = b.vmath("MULTIPLY", fresnel, damping, label="R_spec")
         mirror = b.add("ShaderNodeBsdfGlossy", {"distribution": "GGX"}, label="specular spike")
         b.connect(mirror, "Color", spec)
         b.connect(mirror, "Roughness", MIRROR_ROUGHNESS)
-        shaders.append(Out(mirror.id, 0))
+        shared.append(Out(mirror.id, 0))
         g.links.append((spec, GROUP_OUTPUT, "Specular Weight"))
-    total = _sum_shaders(b, g, shaders)
-    g.links.append((total, GROUP_OUTPUT, "Shader"))
+        if eevee:
+            eevee_mirror = b.add("ShaderNodeBsdfGlossy", {"distribution": "GGX"}, label="EEVEE specular spike")
+            b.connect(eevee_mirror, "Color", spec)
+            b.connect(eevee_mirror, "Roughness", EEVEE_MIRROR_ROUGHNESS)
+            eevee_shared.append(Out(eevee_mirror.id, 0))
+    basis_cache = {}
+    cycles = _lobe_shaders(b, fit.get("lobes", []), fit.get("distribution", "beckmann"), cos_v, basis_cache, "")
+    g.links.append((_sum_shaders(b, g, cycles + shared), GROUP_OUTPUT, "Shader"))
+    if eevee:
+        if eevee.get("signed", False):
+            lobes = _signed_lobes_emission(b, eevee.get("lobes", []), cos_v, basis_cache)
+        else:
+            lobes = _lobe_shaders(b, eevee.get("lobes", []), eevee.get("distribution", "ggx"), cos_v, basis_cache, "EEVEE ")
+        g.links.append((_sum_shaders(b, g, lobes + eevee_shared), GROUP_OUTPUT, EEVEE_SHADER_OUTPUT[0]))
     return g
+
+
+def _colour(b, lobe, basis):
+    """sum_k c_k B_k(N.V) as a colour (None when every coefficient is 0)."""
+    colour = None
+    for k in range(len(basis)):
+        coefficient = tuple(float(lobe["colour"][c][k]) for c in range(3))
+        if not any(coefficient):
+            continue
+        term = b.vmath("SCALE", coefficient, scale=basis[k])
+        colour = term if colour is None else b.vmath("ADD", colour, term)
+    return colour
+
+
+def _basis(b, cos_v, degree, basis_cache):
+    if degree not in basis_cache:
+        one_minus = b.math("SUBTRACT", 1.0, cos_v)
+        basis = []
+        for k in range(degree + 1):
+            term = b.math("MULTIPLY", b.math("POWER", cos_v, float(k)), b.math("POWER", one_minus, float(degree - k)))
+            basis.append(b.math("MULTIPLY", term, float(math.comb(degree, k)), label=f"B{k}(N.V)"))
+        basis_cache[degree] = basis
+    return basis_cache[degree]
+
+
+def _signed_lobes_emission(b, lobes, cos_v, basis_cache):
+    """EEVEE's lobes: coefficients of either sign (a difference of GGX lobes falls off like MBK's
+    Gaussian lobe; fit.h). Blender clamps a negative BSDF colour to 0, so each white GGX lobe is lit
+    by EEVEE (every light and probe) and turned into a colour by Shader to RGB, weighted by its
+    signed colour, summed, clamped at 0 and emitted."""
+    total = None
+    for index, lobe in enumerate(lobes):
+        basis = _basis(b, cos_v, len(lobe["colour"][0]) - 1, basis_cache)
+        colour = _colour(b, lobe, basis)
+        if colour is None:
+            continue
+        glossy = b.add("ShaderNodeBsdfGlossy", {"distribution": "GGX"}, label=f"EEVEE lobe {index + 1}")
+        b.connect(glossy, "Color", (1.0, 1.0, 1.0, 1.0))
+        b.connect(glossy, "Roughness", float(lobe["roughness"]))
+        lit = b.add("ShaderNodeShaderToRGB", label=f"EEVEE lobe {index + 1} lit")
+        b.g.links.append((Out(glossy.id, 0), lit.id, "Shader"))
+        term = b.vmath("MULTIPLY", Out(lit.id, "Color"), colour)
+        total = term if total is None else b.vmath("ADD", total, term)
+    if total is None:
+        return []
+    emission = b.add("ShaderNodeEmission", label="EEVEE lobes")
+    b.connect(emission, "Color", b.vmath("MAXIMUM", total, (0.0, 0.0, 0.0), label="clamped at 0"))
+    b.connect(emission, "Strength", 1.0)
+    return [Out(emission.id, 0)]
+
+
+def _lobe_shaders(b, lobes, distribution, cos_v, basis_cache, label):
+    """One Glossy BSDF per fitted lobe (non-negative colours), colour sum_k c_k B_k(N.V)."""
+    shaders = []
+    for index, lobe in enumerate(lobes):
+        colour = _colour(b, lobe, _basis(b, cos_v, len(lobe["colour"][0]) - 1, basis_cache))
+        if colour is None:
+            continue
+        glossy = b.add("ShaderNodeBsdfGlossy", {"distribution": distribution.upper()}, label=f"{label}lobe {index + 1}")
+        b.connect(glossy, "Color", colour)
+        b.connect(glossy, "Roughness", float(lobe["roughness"]))
+        shaders.append(Out(glossy.id, 0))
+    return shaders
 
 
 def _sum_shaders(b, g, shaders):

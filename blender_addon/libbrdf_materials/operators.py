@@ -35,6 +35,8 @@ class LIBBRDF_OT_add_material(bpy.types.Operator):
     resolution: IntVectorProperty(name="Table nodes", size=3, default=core.DEFAULT_RESOLUTION, min=2, max=4096,
                                   description="theta_h, theta_d, phi_d nodes of the baked table (LUT, OSL)")
     name: StringProperty(name="Name", default="", description="Node group name (default: from the parameters)")
+    target_error: FloatProperty(name="Target error", default=core.DEFAULT_TARGET_ERROR, min=0.001, max=1.0,
+                                description="FIT: p95 per-pixel relative error the number of fitted lobes must meet")
 
     @classmethod
     def poll(cls, context):
@@ -44,7 +46,8 @@ class LIBBRDF_OT_add_material(bpy.types.Operator):
         prefs = _preferences(context)
         request = core.MaterialRequest(model=self.model, sigma_s=self.sigma_s, lc=self.lc, n=self.n, k=self.k,
                                        material=self.material, wavelengths=tuple(self.wavelengths), mode=self.mode,
-                                       resolution=tuple(self.resolution), name=self.name)
+                                       resolution=tuple(self.resolution), name=self.name,
+                                       target_error=self.target_error)
         try:
             request = request.validated()
             if request.mode in ("LUT", "OSL") and blender_nodes.first_sun(context.scene) is None:
@@ -64,6 +67,10 @@ class LIBBRDF_OT_add_material(bpy.types.Operator):
         error = description.get("lut", {}).get("error", {})
         detail = (f", table error rms {error['rms_relative']:.2%}, max {error['max_relative']:.2%} "
                   "(over all angles up to grazing)" if error else "")
+        fit_text = core.fit_error_text(description)
+        if fit_text:
+            group.node_tree["libbrdf_fit_error"] = fit_text  # shown in the panel
+            detail += ", " + fit_text
         self.report({"INFO"}, f"libbrdf: {group.node_tree.name} on {material.name} ({request.mode}{detail})")
         return {"FINISHED"}
 

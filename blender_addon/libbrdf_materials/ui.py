@@ -40,6 +40,8 @@ class LIBBRDF_MaterialSettings(bpy.types.PropertyGroup):
     wavelengths: FloatVectorProperty(name="Wavelengths (um)", size=3, default=core.DEFAULT_WAVELENGTHS, min=1e-3)
     mode: EnumProperty(name="Mode", items=[(m, label, d) for m, label, d in core.MODES], default="LUT")
     resolution: IntVectorProperty(name="Table nodes", size=3, default=core.DEFAULT_RESOLUTION, min=2, max=4096)
+    target_error: FloatProperty(name="Target error", default=core.DEFAULT_TARGET_ERROR, min=0.001, max=1.0,
+                                description="FIT: p95 per-pixel relative error the number of fitted lobes must meet")
 
 
 class LIBBRDF_MT_presets(bpy.types.Menu):
@@ -79,7 +81,15 @@ class LIBBRDF_PT_material(bpy.types.Panel):
         layout.prop(s, "mode", expand=True)
         if s.mode != "FIT":
             layout.prop(s, "resolution")
+        else:
+            layout.prop(s, "target_error")
         op = layout.operator("libbrdf.add_material", icon="MATERIAL")
         op.model, op.sigma_s, op.lc, op.n, op.k = s.model, s.sigma_s, s.lc, s.n, s.k
         op.material = "" if s.material == "CUSTOM" else s.material
         op.wavelengths, op.mode, op.resolution = s.wavelengths, s.mode, s.resolution
+        op.target_error = s.target_error
+        # The active material's libbrdf group: its fit's measured error (FIT mode).
+        material = context.object.active_material
+        group = material.node_tree.nodes.get("libbrdf") if material and material.node_tree else None
+        if group is not None and group.node_tree is not None and group.node_tree.get("libbrdf_fit_error"):
+            layout.label(text="Fit: " + group.node_tree["libbrdf_fit_error"], icon="INFO")

@@ -1,4 +1,4 @@
-// Blender export: the atlas image, the microfacet fit and the JSON description (blender.h).
+// Blender export: the atlas image, the spike parameters, the fitted lobes and the JSON description (blender.h).
 #include "exporters/blender.h"
 
 #include <algorithm>
@@ -38,6 +38,41 @@ std::string atlas_layout_text(const BlenderAtlas& a) {
       << (a.specular_nodes - 1) << "; node at texel centre ((x+0.5)/" << a.width << ", (y+0.5)/" << a.height
       << "); sample Closest and interpolate between nodes (trilinear)";
   return out.str();
+}
+
+// One fit's lobes and measured error (the description's "fit" / "fit.eevee").
+nlohmann::json lobes_json(const fit::NativeFit& n) {
+  using nlohmann::json;
+  json lobes = json::array();
+  for (const fit::Lobe& l : n.lobes) {
+    json colour = json::array();
+    for (int c = 0; c < 3; ++c) colour.push_back(l.colour[static_cast<std::size_t>(c)]);
+    lobes.push_back({{"alpha", l.roughness}, {"roughness", std::sqrt(l.roughness)}, {"colour", colour}});
+  }
+  json tried = json::array();
+  for (const fit::FitQuality& q : n.tried) tried.push_back(q.p95);
+  const bool ggx = n.shape == fit::LobeShape::ggx;
+  json out;
+  out["distribution"] = ggx ? "ggx" : "beckmann";
+  out["signed"] = n.signed_colours;
+  out["lobes"] = lobes;
+  out["colour_basis"] = "per channel sum_k colour[c][k] B_k(N.V), B_k = C(" + std::to_string(fit::kColourDegree) +
+                        ", k) mu^k (1 - mu)^(" + std::to_string(fit::kColourDegree) + " - k), mu = N.V";
+  out["bsdf"] = std::string("Glossy BSDF (") + (ggx ? "GGX" : "Beckmann") +
+                ") per lobe, roughness = sqrt(alpha), added; radiance / E = C D G1 G1 / (4 N.V)";
+  out["error"] = {{"median", n.quality.median},
+                  {"p95", n.quality.p95},
+                  {"max", n.quality.max},
+                  {"values", n.quality.values},
+                  {"lowest", n.quality.lowest},
+                  {"target_p95", n.target_error},
+                  {"target_met", n.target_met},
+                  {"p95_by_lobe_count", tried},
+                  {"measure", "per pixel and channel |fit - exact| / exact, exact = f_r cos(theta_i), on orthographic "
+                              "spheres lit by one sun at 10, 40, 70, 100 deg from the camera; pixels with theta_i, "
+                              "theta_s <= 70 deg and every channel above 1% of the scene's maximum; the lobes as Cycles "
+                              "evaluates them; lowest = min fit / scene maximum"}};
+  return out;
 }
 
 }  // namespace
@@ -110,23 +145,15 @@ void write_blender_atlas_exr(const Lut& lut, const BlenderAtlas& a, const std::s
   write_exr(path, {image});
 }
 
-MicrofacetFit microfacet_fit(ModelKind kind, const std::vector<ModelParameters>& channels) {
-  MicrofacetFit fit;
-  // conventions.md, "Microfacet": the microfacet model with sigma_g mapped (eqs 20/25), rho_s = K.
+SpikeFit spike_fit(ModelKind kind, const std::vector<ModelParameters>& channels) {
+  SpikeFit spike;
   for (const ModelParameters& p : channels) {
-    const Model microfacet(ModelKind::microfacet, p);
-    const double sigma_g = microfacet.sigma_g();
-    const double alpha = std::sqrt(2.0) * sigma_g;  // Beckmann alpha^2 = 2 sigma_g^2 (eq. 7)
-    fit.sigma_g.push_back(sigma_g);
-    fit.alpha.push_back(alpha);
-    fit.roughness.push_back(std::sqrt(alpha));      // Blender: alpha = roughness^2
-    if (!p.index) throw InvalidArgument("n", "the microfacet fit needs the complex index (--n/--k or --material)");
-    fit.f0.push_back(fresnel_reflectance(p.index->permittivity(), 1.0));
-    fit.k0.push_back(p.rho_s ? *p.rho_s : microfacet.renormalization(0.0));
-    fit.g0.push_back(p.sigma_s_um ? roughness_g(*p.sigma_s_um / p.wavelength_um, 1.0, 1.0) : 0.0);
+    if (!p.index) throw InvalidArgument("n", "the specular spike needs the complex index (--n/--k or --material)");
+    spike.f0.push_back(fresnel_reflectance(p.index->permittivity(), 1.0));
+    spike.g0.push_back(p.sigma_s_um ? roughness_g(*p.sigma_s_um / p.wavelength_um, 1.0, 1.0) : 0.0);
   }
-  fit.has_spike = Model(kind, channels.front()).specular_reflectance(0.0) > 0.0;
-  return fit;
+  spike.has_spike = Model(kind, channels.front()).specular_reflectance(0.0) > 0.0;
+  return spike;
 }
 
 std::string blender_description_json(const BlenderExport& e) {
@@ -172,18 +199,15 @@ std::string blender_description_json(const BlenderExport& e) {
   }
   if (!e.osl_file.empty()) d["osl"] = {{"file", e.osl_file}, {"shader", e.osl_shader_name}};
 
-  const MicrofacetFit& f = e.fit;
-  d["fit"] = {{"distribution", "beckmann"},
-              {"sigma_g", f.sigma_g},
-              {"alpha", f.alpha},
-              {"roughness", f.roughness},
-              {"f0", f.f0},
-              {"k0", f.k0},
-              {"g0", f.g0},
-              {"has_spike", f.has_spike},
+  const SpikeFit& spike = e.spike;
+  json fit = {{"f0", spike.f0},
+              {"g0", spike.g0},
+              {"has_spike", spike.has_spike},
               {"rho_d", e.channels.empty() ? 0.0 : e.channels.front().rho_d},
-              {"colour", "k0 * (f0 + (1 - f0) (1 - cos theta_v)^5) (Schlick from the exact F(0))"},
-              {"spike", "(f0 + (1 - f0) (1 - cos theta_v)^5) exp(-g0 cos^2 theta_v)"}};
+              {"spike", "(f0 + (1 - f0) (1 - cos theta_v)^5) exp(-g0 cos^2 theta_v): R_spec with Schlick's F from the exact F(0)"}};
+  if (e.lobes) fit.update(lobes_json(*e.lobes));
+  if (e.lobes_eevee) fit["eevee"] = lobes_json(*e.lobes_eevee);
+  d["fit"] = fit;
   return d.dump(2) + "\n";
 }
 

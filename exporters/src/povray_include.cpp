@@ -47,6 +47,47 @@ std::string describe_channel(const ModelParameters& p) {
   return out.str();
 }
 
+// NAME_Fit_Lobe_j textures and NAME_Fit (povray.h, FinishFit). Pigments: the lobe colour at
+// kColourNodes slope values over N.V in [0, 1] (s = 1/2 + asin(N.V)/pi), linear in between.
+std::string fit_textures(const std::string& N, const FinishFit& fit) {
+  constexpr int kColourNodes = 24;
+  const std::vector<fit::Lobe>& lobes = fit.lobes.lobes;
+  const double count = static_cast<double>(std::max<std::size_t>(lobes.size(), 1));
+  std::ostringstream out;
+  const std::string reflection = "reflection { rgb " + vector3(fit.reflection_min) + ", rgb " + vector3(fit.reflection_max) +
+                                 " falloff " + number(fit.reflection_falloff) + " }";
+  for (std::size_t j = 0; j < lobes.size(); ++j) {
+    const fit::Lobe& l = lobes[j];
+    out << "#declare " << N << "_Fit_Lobe_" << j + 1 << " = texture {\n"
+        << "  pigment { slope { " << N << "_View_Direction } color_map {";
+    for (int i = 0; i < kColourNodes; ++i) {
+      const double slope = 0.5 + 0.5 * i / (kColourNodes - 1);
+      const double mu = std::sin(kPi * (slope - 0.5));
+      std::array<double, 3> rgb{};
+      for (int c = 0; c < 3; ++c) rgb[static_cast<std::size_t>(c)] = fit::lobe_colour(l, c, mu);
+      if (i == 0) out << " [0 rgb " << vector3(rgb, 7) << "]";
+      out << " [" << number(slope, 9) << " rgb " << vector3(rgb, 7) << "]";
+    }
+    // The average divides by the lobe count: each lobe's S is multiplied by it.
+    out << " } }\n"
+        << "  finish { ambient 0 emission 0 diffuse 0 specular " << number(count * l.specular) << " roughness "
+        << number(1.0 / l.roughness) << " metallic 1\n"
+        << "           " << reflection << " }\n"
+        << "}\n";
+  }
+  if (lobes.empty()) {
+    out << "#declare " << N << "_Fit = texture { pigment { rgb 0 } finish { ambient 0 emission 0 diffuse 0 " << reflection
+        << " } }\n";
+  } else if (lobes.size() == 1) {
+    out << "#declare " << N << "_Fit = texture { " << N << "_Fit_Lobe_1 }\n";
+  } else {
+    out << "#declare " << N << "_Fit = texture { average texture_map {";
+    for (std::size_t j = 0; j < lobes.size(); ++j) out << " [1 " << N << "_Fit_Lobe_" << j + 1 << "]";
+    out << " } }\n";
+  }
+  return out.str();
+}
+
 }  // namespace
 
 void validate_include_name(const std::string& name) {
@@ -84,7 +125,7 @@ std::string include_text(const std::string& name, ModelKind model, const std::ve
       << "//   camera { orthographic location -100*" << N << "_View_Direction look_at 0 ... }\n"
       << "//   sphere { 0, 1 texture { " << N << "_Exact } }\n"
       << "//   // or: light_source { 1e6*" << N << "_Light_Direction rgb 1 parallel point_at 0 }\n"
-      << "//   //     sphere { 0, 1 texture { " << N << "_Fit } }\n"
+      << "//   //     sphere { 0, 1 texture { " << N << "_Fit } }   (any lights, shadows, reflections)\n"
       << "//\n"
       << "// Directions are POV-Ray world vectors (left-handed, y up) from the surface towards the light\n"
       << "// and towards the camera; theta_i = angle(N, light), theta_s = angle(N, view), and phi_s follows\n"
@@ -105,10 +146,14 @@ std::string include_text(const std::string& name, ModelKind model, const std::ve
               ? "max " + percent(slice.error.max_relative) + ", rms " + percent(slice.error.rms_relative)
               : std::string("n/a (no such normal is lit and seen)"))
       << "; up to the horizon (silhouettes) max " << percent(slice.error.max_relative_all) << ".\n"
-      << "// " << N << "_Fit: diffuse + Blinn specular (metallic 1) + reflection fitted to R_spec = F exp(-g).\n"
-      << "//   Measured error against the exact radiance, weighted as pixels of a sphere seen along the view:\n"
-      << "//   relative L2 " << percent(fit.relative_l2_error) << "; peak (N = H) fit/exact "
-      << vector3(fit.peak_ratio, 3) << "; reflection rms " << number(fit.reflection_rms_error, 3) << ".\n"
+      << "// " << N << "_Fit: " << fit.lobes.lobes.size() << " Blinn lobe(s) (specular, metallic 1, pigment following N.V through\n"
+      << "//   slope { " << N << "_View_Direction }) averaged by a texture_map, + reflection fitted to R_spec = F exp(-g).\n"
+      << "//   Measured per pixel and channel against the exact radiance f_r cos(theta_i) on orthographic spheres lit\n"
+      << "//   by one sun at 10..125 deg from the camera (theta_i, theta_s <= 70 deg, values above 1% of the maximum):\n"
+      << "//   median " << percent(fit.lobes.quality.median) << ", p95 " << percent(fit.lobes.quality.p95) << ", max "
+      << percent(fit.lobes.quality.max) << " (target p95 " << percent(fit.lobes.target_error)
+      << (fit.lobes.target_met ? "" : ", not met") << "); peak (N = H) fit/exact " << vector3(fit.peak_ratio, 3)
+      << "; reflection rms " << number(fit.reflection_rms_error, 3) << ".\n"
       << "\n"
       << "#ifndef(" << N << "_Inc_Temp)\n"
       << "#declare " << N << "_Inc_Temp = version;\n"
@@ -143,15 +188,9 @@ std::string include_text(const std::string& name, ModelKind model, const std::ve
       << "_Exact_Finish } }\n"
       << "\n"
       << "// Source: least-squares fit of the same model (see header).\n"
-      << "#declare " << N << "_Fit_Finish = finish {\n"
-      << "  ambient 0 emission 0\n"
-      << "  diffuse " << number(fit.diffuse) << " brilliance 1\n"
-      << "  specular " << number(fit.specular) << " roughness " << number(fit.roughness) << " metallic 1\n"
-      << "  reflection { rgb " << vector3(fit.reflection_min) << ", rgb " << vector3(fit.reflection_max) << " falloff "
-      << number(fit.reflection_falloff) << " }\n"
-      << "}\n"
-      << "#declare " << N << "_Fit = texture { pigment { rgb " << vector3(fit.pigment) << " } finish { " << N
-      << "_Fit_Finish } }\n"
+      << "#declare " << N << "_Fit_Error_Median = " << number(fit.lobes.quality.median, 6) << ";\n"
+      << "#declare " << N << "_Fit_Error_P95 = " << number(fit.lobes.quality.p95, 6) << ";\n"
+      << fit_textures(N, fit)
       << "\n"
       << "#version " << N << "_Inc_Temp;\n"
       << "#end\n";
@@ -166,7 +205,7 @@ ExportResult export_povray(const SliceRequest& request, const std::string& name,
   ExportResult result;
   result.slice = bake_half_vector_slice(request);
   const std::vector<Model> models = channel_models(request.model, request.channels);
-  result.fit = fit_finish(result.slice, models, request.seed);
+  result.fit = fit_finish(result.slice, models, request.fit_target_error);
 
   const std::string text = include_text(name, request.model, request.channels, result.slice, result.fit);
   namespace fs = std::filesystem;

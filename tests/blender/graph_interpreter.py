@@ -71,6 +71,7 @@ VMATH = {
     "MULTIPLY": lambda a, b, c, s: (a * b, None),
     "MULTIPLY_ADD": lambda a, b, c, s: (a * b + c, None),
     "SCALE": lambda a, b, c, s: (a * s[:, None], None),
+    "MAXIMUM": lambda a, b, c, s: (np.maximum(a, b), None),
     "NORMALIZE": lambda a, b, c, s: (_normalize(a), None),
     "CROSS_PRODUCT": lambda a, b, c, s: (np.cross(a, b).astype(np.float32), None),
     "DOT_PRODUCT": lambda a, b, c, s: (None, np.sum(a * b, axis=1)),
@@ -135,6 +136,11 @@ def evaluate(graph, normal, incoming, inputs, images):
             kind = f"glossy_{node.props['distribution'].lower()}"
             return {kind: _vec(input_value(node, "Color"), m),
                     kind + "_roughness": _flt(input_value(node, "Roughness"), m)}
+        if t == "ShaderNodeShaderToRGB":
+            # Lighting is the renderer's: without lights the lit colour is 0 (the graph around it
+            # is still evaluated, so its nodes must be known).
+            input_value(node, "Shader", {})
+            return np.zeros((m, 3), dtype=np.float32)
         if t == "ShaderNodeAddShader":
             total = {}
             for part in (input_value(node, 0, {}), input_value(node, 1, {})):

@@ -100,14 +100,18 @@ def fit_case(directory, request):
     fit = description["fit"]
     glossy = [node for node in graph.nodes if node.type == "ShaderNodeBsdfGlossy"
               and node.props["distribution"] == "BECKMANN"]
-    check(len(glossy) in (1, 3), f"FIT graph has Beckmann Glossy nodes ({len(glossy)})")
-    for node, roughness in zip(glossy, fit["roughness"]):
-        alpha = math.sqrt(2.0) * fit["sigma_g"][0]
-        check(abs(node.inputs["Roughness"] ** 2 - alpha) < 1e-12,
-              f"FIT roughness^2 {node.inputs['Roughness'] ** 2:.6f} = sqrt(2) sigma_g {alpha:.6f}")
-    # Independent numbers: sigma_g of eq. 20 (rough: g(0,0) >= 1), F(0) of a metal from brdf eval.
-    sigma_g = math.sqrt(2.0) * request.sigma_s / request.lc
-    check(abs(fit["sigma_g"][1] - sigma_g) < 1e-12, f"FIT sigma_g {fit['sigma_g'][1]:.6f} = sqrt(2) sigma_s / l_c")
+    check(len(glossy) == len(fit["lobes"]) >= 1, f"FIT graph has one Beckmann Glossy per fitted lobe ({len(glossy)})")
+    for node, lobe in zip(glossy, fit["lobes"]):
+        check(abs(node.inputs["Roughness"] ** 2 - lobe["alpha"]) < 1e-12,
+              f"FIT lobe roughness^2 {node.inputs['Roughness'] ** 2:.6f} = fitted alpha {lobe['alpha']:.6f}")
+    error = fit["error"]
+    check(0 <= error["median"] <= error["p95"] <= error["max"] and error["values"] > 100,
+          f"FIT stores its measured error (median {error['median']:.2%}, p95 {error['p95']:.2%})")
+    check(core.fit_error_text(description).startswith(f"{len(fit['lobes'])} lobe"),
+          f"panel text: {core.fit_error_text(description)}")
+    eevee = [node for node in graph.nodes if node.type == "ShaderNodeShaderToRGB"]
+    check(len(eevee) == len(fit["eevee"]["lobes"]) and fit["eevee"]["signed"],
+          f"EEVEE output: one Shader to RGB per signed GGX lobe ({len(eevee)})")
     f0 = float(subprocess.run([BRDF, "eval", "--model", "fresnel", "--material", request.material, "--wavelength",
                                "0.55", "--at", "0,0,180"], capture_output=True, text=True,
                               check=True).stdout.splitlines()[1].split(",")[3])

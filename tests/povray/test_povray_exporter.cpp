@@ -168,21 +168,28 @@ TEST(HalfVectorSlice, RejectsOutOfRangeResolutionAndNonBrdfModels) {
   EXPECT_THROW(bake_half_vector_slice(request), InvalidArgument);
 }
 
-TEST(FinishFit, FollowsPovRaysLightingAndPeaksAtTheHalfVector) {
+TEST(FinishFit, FittedBlinnLobesFollowPovRaysLightingAndMeetTheirMeasure) {
   const SliceRequest request = gold(ModelKind::mbk, 0.275);
   const HalfVectorSlice slice = bake_half_vector_slice(request);
   const FinishFit fit = fit_finish(slice, models_of(request));
   const double cd = slice.geometry.cos_theta_d;
+  ASSERT_FALSE(fit.lobes.lobes.empty());
+  EXPECT_EQ(fit.lobes.shape, libbrdf::fit::LobeShape::blinn);
+  for (const libbrdf::fit::Lobe& l : fit.lobes.lobes) {
+    EXPECT_GT(l.specular, 0.0) << "POV-Ray needs specular > 0";
+    EXPECT_GE(l.roughness, 1.0) << "exponent n = 1/roughness";
+    for (const auto& c : l.colour)
+      for (double v : c) EXPECT_GE(v, 0.0) << "pigments are non-negative";
+  }
   for (int k = 0; k < 3; ++k) {
-    EXPECT_EQ(fit_radiance(fit, k, -0.1, 0.9), 0.0) << "unlit side";
-    EXPECT_GT(fit_radiance(fit, k, cd, 1.0), fit_radiance(fit, k, cd * std::cos(0.3), std::cos(0.3)));
+    EXPECT_EQ(fit_radiance(fit, k, -0.1, 0.9, 0.9), 0.0) << "unlit side";
+    EXPECT_GT(fit_radiance(fit, k, cd, cd, 1.0), fit_radiance(fit, k, cd * std::cos(0.3), cd, std::cos(0.3)));
     EXPECT_TRUE(std::isfinite(fit.peak_ratio[static_cast<std::size_t>(k)]));
   }
-  EXPECT_GT(fit.specular, 0.0);
-  EXPECT_GT(fit.roughness, 0.0);
-  EXPECT_GE(fit.diffuse, 0.0);
-  // Measured, and for a rough gold lobe a Blinn lobe is a fair fit (the value is reported, not tuned).
-  EXPECT_LT(fit.relative_l2_error, 0.5);
+  // The fit's own measure (fit.h) on a rough gold lobe; the renders in test_fit_render.py check it
+  // against POV-Ray per pixel.
+  EXPECT_GT(fit.lobes.quality.values, 1000u);
+  EXPECT_LT(fit.lobes.quality.median, 0.20);  // measured 12% (Blinn lacks the 1/cos(theta_s) of MBK's lobe)
   // R_spec -> 1 at grazing (F -> 1, g -> 0); min is R_spec at normal incidence, tiny when rough.
   for (int k = 0; k < 3; ++k) {
     EXPECT_EQ(fit.reflection_max[static_cast<std::size_t>(k)], 1.0);
@@ -198,6 +205,7 @@ TEST(Include, IsGuardedPrefixedAndWithinPovRaysMapLimit) {
   for (const char* needle : {"#ifndef(Gold_Inc_Temp)", "#declare Gold_Inc_Temp = version;", "#version 3.7;",
                              "#ifndef(Gold_Irradiance) #declare Gold_Irradiance = 1; #end",
                              "#declare Gold_Exact = texture", "#declare Gold_Fit = texture",
+                             "#declare Gold_Fit_Lobe_1 = texture", "#declare Gold_Fit_Error_P95",
                              "#declare Gold_Light_Direction", "#declare Gold_View_Direction",
                              "#version Gold_Inc_Temp;", "emission Gold_Irradiance"})
     EXPECT_NE(text.find(needle), std::string::npos) << needle;
@@ -206,7 +214,8 @@ TEST(Include, IsGuardedPrefixedAndWithinPovRaysMapLimit) {
   std::string line;
   std::size_t outer = 0;
   while (std::getline(lines, line)) {
-    if (line.find("color_map") == std::string::npos) continue;
+    // NAME_Exact's table rows (the Fit lobes' pigments are colour maps over the view slope).
+    if (line.find("color_map") == std::string::npos || line.find("_View_Direction") != std::string::npos) continue;
     ++outer;
     std::size_t inner = 0;
     for (std::size_t p = line.find(" rgb "); p != std::string::npos; p = line.find(" rgb ", p + 1)) ++inner;

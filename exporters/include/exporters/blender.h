@@ -6,7 +6,8 @@
 //   STEM.exr   the atlas: the 3D table (theta_h, theta_d, phi_d) x RGB packed into one float RGB
 //              image, plus one row with R_spec(theta) (the specular spike's reflectance).
 //   STEM.json  the description the add-on builds its node group from: atlas geometry, axis
-//              mapping, the table's measured error, and the microfacet fit (FIT mode).
+//              mapping, the table's measured error; in FIT mode the fitted GGX lobes (fit.h) and
+//              their measured error; always the specular spike's parameters.
 //   STEM.osl   (mode osl) an OSL shader doing the same lookup with texture() on STEM.exr.
 //
 // Atlas layout (also written into the EXR header and the JSON):
@@ -32,6 +33,7 @@
 #include <string>
 #include <vector>
 
+#include "exporters/fit.h"
 #include "libbrdf/lut.h"
 #include "libbrdf/models.h"
 
@@ -57,18 +59,15 @@ std::vector<float> blender_atlas_texels(const Lut& lut, const BlenderAtlas& atla
 // Writes the atlas as a float32 RGB OpenEXR (temporary + rename), the layout above in its header.
 void write_blender_atlas_exr(const Lut& lut, const BlenderAtlas& atlas, const std::string& path);
 
-// Native-BSDF approximation of a surface for Blender's Glossy BSDF (Beckmann), per channel
-// (conventions.md, "Microfacet"): sigma_g of eqs 20/25, rho_s = K, Beckmann alpha = sqrt(2) sigma_g,
-// Blender roughness = sqrt(alpha) (Blender squares its roughness into alpha).
-struct MicrofacetFit {
-  std::vector<double> sigma_g, alpha, roughness;
-  std::vector<double> f0;   // exact Fresnel reflectance at normal incidence, F(0)
-  std::vector<double> k0;   // K(0), the amplitude rho_s at normal incidence
-  std::vector<double> g0;   // g(0, 0) = (4 pi sigma_s / lambda)^2: R_spec ~ F exp(-g0 cos^2 theta)
+// The specular spike's mirror lobe in FIT mode (and its parameters in every description):
+// R_spec(theta_v) = F(theta_v) exp(-g0 cos^2 theta_v) exactly (conventions.md), with F taken as
+// Schlick's from the exact F(0) (node graphs have no complex Fresnel).
+struct SpikeFit {
+  std::vector<double> f0;   // exact Fresnel reflectance at normal incidence, F(0), per channel
+  std::vector<double> g0;   // g(0, 0) = (4 pi sigma_s / lambda)^2 per channel
   bool has_spike = false;   // the model has a specular spike (MBK and BK families)
 };
-// One ModelParameters per channel; `kind` decides whether there is a spike.
-MicrofacetFit microfacet_fit(ModelKind kind, const std::vector<ModelParameters>& channels);
+SpikeFit spike_fit(ModelKind kind, const std::vector<ModelParameters>& channels);
 
 // What the add-on needs to build the material (see blender_addon/libbrdf_materials/nodegraph.py).
 struct BlenderExport {
@@ -81,7 +80,12 @@ struct BlenderExport {
   std::string atlas_file;              // file name of the atlas, relative to the description
   std::string osl_file;                // osl only
   std::string osl_shader_name;         // osl only
-  MicrofacetFit fit;
+  SpikeFit spike;
+  // fit mode (fit.h): Cycles renders Beckmann lobes exactly as fitted; EEVEE renders every
+  // distribution as GGX (seen in Blender 3.4), so it gets GGX lobes of its own, through a second
+  // Material Output with target EEVEE.
+  const fit::NativeFit* lobes = nullptr;        // Beckmann (Cycles)
+  const fit::NativeFit* lobes_eevee = nullptr;  // GGX (EEVEE)
 };
 // The JSON description (text, 2-space indent).
 std::string blender_description_json(const BlenderExport& e);

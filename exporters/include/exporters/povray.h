@@ -6,9 +6,9 @@
 //              orthographic (or distant) camera whose directions are fixed in the world. With L and
 //              V fixed, f_r depends on the normal N only through two dot products (conventions.md,
 //              eq. 5: cos 2theta_d = L.V fixes phi_s), so a 2D table over the normal is exact.
-//  NAME_Fit    a native finish (diffuse + Blinn specular with metallic tint + variable reflection
-//              for the specular spike R_spec) least-squares fitted to the same radiance, for scenes
-//              with many lights. Its measured error is written into the include.
+//  NAME_Fit    an averaged texture_map of native finishes (Blinn lobes with metallic tint, colour
+//              following N.V, + variable reflection for the specular spike R_spec) fitted to the
+//              model (fit.h), for scenes with any lights. Its measured error is written into the include.
 //
 // Table coordinates (HalfVectorSlice). POV-Ray can only look a table up through patterns of the
 // normal; `slope { d }` gives s = 1/2 + asin(N.d)/pi for a unit direction d (measured with POV-Ray
@@ -37,6 +37,7 @@
 #include <string>
 #include <vector>
 
+#include "exporters/fit.h"
 #include "libbrdf/lut.h"
 #include "libbrdf/models.h"
 
@@ -72,6 +73,7 @@ struct SliceRequest {
   double error_floor_fraction = 1e-3;      // relative errors are measured above this x the peak
   int error_samples = 20000;
   std::uint64_t seed = 1;
+  double fit_target_error = fit::kDefaultTargetError;  // NAME_Fit: p95 per-pixel error (fit.h)
 };
 
 // Radiance per unit irradiance, R = f_r cos(theta_i) (1/sr), on a tensor grid over (a = N.H, u = N.L).
@@ -100,23 +102,23 @@ struct HalfVectorSlice {
 // and measures its error at random normals (half of them uniform in the angle from H, to sample the peak).
 HalfVectorSlice bake_half_vector_slice(const SliceRequest& request);
 
-// The fitted native finish, in POV-Ray 3.7's terms. Per light of colour E (= irradiance):
-//   L = E [diffuse c (N.L) + specular (N.H)^(1/roughness) (F_m + (1 - F_m) c)],  N.L > 0,
-// where c is the pigment and F_m(N.L) POV-Ray's empirical `metallic 1` weight; plus the mirror
-// reflection min + (max - min)(1 - cos theta)^falloff, a fit of R_spec(theta) = F exp(-g).
+// NAME_Fit: a mixture of POV-Ray Blinn lobes fitted to the model (fit.h, shape blinn), each a
+// texture of its own (specular S_j, roughness 1/n_j, metallic 1, pigment c_j(N.V) as a
+// slope { view } colour_map), averaged by a texture_map (weights equal, S_j scaled by the lobe
+// count), plus the mirror reflection min + (max - min)(1 - cos theta)^falloff fitted to
+// R_spec(theta) = F exp(-g) in every lobe (so the average keeps it). Per light of colour E:
+//   L = E sum_j S_j (N.H)^n_j (F_m(N.L) + (1 - F_m(N.L)) c_j(N.V)),  N.L > 0.
 struct FinishFit {
-  std::array<double, 3> pigment{};
-  double diffuse = 0.0, specular = 0.0, roughness = 1.0;
+  fit::NativeFit lobes;                // the Blinn lobes and their measured error (fit.h)
   std::array<double, 3> reflection_min{}, reflection_max{};
   double reflection_falloff = 1.0;
-  // Errors against the exact radiance, weighted as pixels of a sphere seen along V (N.V dOmega):
-  double relative_l2_error = 0.0;     // sqrt(sum w (fit - exact)^2 / sum w exact^2), all channels
-  std::array<double, 3> peak_ratio{}; // fit / exact at N = H
-  double reflection_rms_error = 0.0;  // RMS of (fit - R_spec) over theta, absolute reflectance
+  std::array<double, 3> peak_ratio{};  // fit / exact at N = H for the include's sun and view
+  double reflection_rms_error = 0.0;   // RMS of (fit - R_spec) over theta, absolute reflectance
 };
-FinishFit fit_finish(const HalfVectorSlice& slice, const std::vector<Model>& models, std::uint64_t seed = 1);
-// POV-Ray 3.7's radiance of the fitted finish for one parallel light of unit colour (no reflection).
-double fit_radiance(const FinishFit& fit, int channel, double n_dot_l, double n_dot_h);
+FinishFit fit_finish(const HalfVectorSlice& slice, const std::vector<Model>& models,
+                     double target_error = fit::kDefaultTargetError);
+// POV-Ray 3.7's radiance of the fitted lobes for one parallel light of unit colour (no reflection).
+double fit_radiance(const FinishFit& fit, int channel, double n_dot_l, double n_dot_v, double n_dot_h);
 
 // Throws InvalidArgument("name", ...) unless `name` is a usable POV-Ray identifier prefix
 // (a letter, then letters, digits or '_', at most 24 characters so that NAME_... stays within

@@ -1,0 +1,614 @@
+// Native-lobe fit (fit.h): sphere-pixel scenes, non-negative least squares for the colours,
+// Nelder-Mead for the roughnesses, lobe count by target error.
+#include "exporters/fit.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include "libbrdf/batch.h"
+#include "libbrdf/error.h"
+#include "libbrdf/geometry.h"
+
+namespace libbrdf::fit {
+
+namespace {
+
+constexpr double kPiD = 3.14159265358979323846;
+constexpr double kSelectThetaDeg = 70.0;  // the one-sun check's pixel selection (fit.h)
+constexpr double kFitThetaDeg = 80.0;     // fitted a little beyond it, so the edge is not free
+constexpr double kFloorFraction = 0.01;   // of the scene's maximum radiance
+// Below the floor an absolute error of kTailScale x floor counts as much as a 100% error above it:
+// the check ignores those pixels, and a GGX lobe's long tail must not pull its core narrow.
+constexpr double kTailScale = 3.0;
+// Roughness bounds: Blender clamps its roughness to [0, 1] (alpha = roughness^2 <= 1); below
+// alpha ~ 1e-3 a lobe is a mirror. POV-Ray: exponent n = 1/roughness.
+constexpr double kMinAlpha = 2e-3, kMaxAlpha = 1.0, kMinExponent = 1.0, kMaxExponent = 1e6;
+
+// One pixel of an orthographic sphere: the cosines the lobes need and the exact radiance per unit
+// irradiance f_r cos(theta_i) per channel.
+struct Pixel {
+  double nl, nv, nh;
+  std::array<double, 3> exact{};
+  std::array<double, kColourTerms> basis{};  // B_k(nv)
+  double floor = 0.0;                         // kFloorFraction x the scene's maximum
+  bool selected = false;                      // counted in the quality (fit.h)
+};
+
+// Pixels of a unit sphere seen along V = +z (orthographic, grid x grid pixels over [-1, 1]^2), lit
+// by a sun at `sun_deg` from V (in the x-z plane); only lit, visible pixels with both polar angles
+// <= theta_limit_deg. Exact radiance from evaluate_batch, one batch per channel.
+// window > 0 adds a second grid x grid block of pixels over the square of half-size `window`
+// (projected coordinates) around the half vector's pixel, so that a narrow lobe gets enough samples.
+std::vector<Pixel> sphere_scene(const std::vector<Model>& models, double sun_deg, int grid, double offset,
+                                double theta_limit_deg, double window = 0.0) {
+  const double s = std::sin(sun_deg * kPiD / 180.0), c = std::cos(sun_deg * kPiD / 180.0);
+  const std::array<double, 3> L{s, 0.0, c};
+  const double hl = std::sqrt(2.0 + 2.0 * c);
+  const std::array<double, 3> H{s / hl, 0.0, (1.0 + c) / hl};
+  const double limit = std::cos(theta_limit_deg * kPiD / 180.0);
+  std::vector<Pixel> pixels;
+  std::vector<ScatterAngles> angles;
+  const int blocks = window > 0.0 ? 2 : 1;
+  for (int block = 0; block < blocks; ++block)
+  for (int iy = 0; iy < grid; ++iy)
+    for (int ix = 0; ix < grid; ++ix) {
+      const double half = block == 0 ? 1.0 : window;
+      const double cx = block == 0 ? 0.0 : H[0], cy = 0.0;
+      const double x = cx + half * (-1.0 + 2.0 * (ix + offset) / grid), y = cy + half * (-1.0 + 2.0 * (iy + offset) / grid);
+      const double r2 = x * x + y * y;
+      if (r2 >= 1.0) continue;
+      const std::array<double, 3> N{x, y, std::sqrt(1.0 - r2)};
+      const double nl = N[0] * L[0] + N[1] * L[1] + N[2] * L[2];
+      const double nv = N[2];
+      if (nl < limit || nv < limit) continue;
+      const double nh = N[0] * H[0] + N[1] * H[1] + N[2] * H[2];
+      // Azimuth between the tangential parts of L and V (conventions.md: back-scatter phi_s = 0).
+      std::array<double, 3> lt{}, vt{};
+      const std::array<double, 3> V{0.0, 0.0, 1.0};
+      for (int k = 0; k < 3; ++k) {
+        lt[k] = L[k] - nl * N[k];
+        vt[k] = V[k] - nv * N[k];
+      }
+      const double ll = std::sqrt(lt[0] * lt[0] + lt[1] * lt[1] + lt[2] * lt[2]);
+      const double vv = std::sqrt(vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]);
+      const double cos_phi = ll * vv > 1e-12 ? (lt[0] * vt[0] + lt[1] * vt[1] + lt[2] * vt[2]) / (ll * vv) : -1.0;
+      Pixel p{nl, nv, nh, {}, {}, 0.0, false};
+      for (int k = 0; k < kColourTerms; ++k) p.basis[static_cast<std::size_t>(k)] = bernstein(k, nv);
+      pixels.push_back(p);
+      angles.push_back({std::acos(std::min(nl, 1.0)), std::acos(std::min(nv, 1.0)),
+                        std::acos(std::clamp(cos_phi, -1.0, 1.0))});
+    }
+  std::vector<double> values(angles.size());
+  for (std::size_t ch = 0; ch < 3; ++ch) {
+    const Model& model = models[std::min(ch, models.size() - 1)];
+    if (ch > 0 && models.size() == 1) {
+      for (Pixel& p : pixels) p.exact[ch] = p.exact[0];
+      continue;
+    }
+    evaluate_batch(model, angles.data(), angles.size(), values.data());
+    for (std::size_t i = 0; i < pixels.size(); ++i) pixels[i].exact[ch] = values[i] * pixels[i].nl;
+  }
+  double peak = 0.0;
+  for (const Pixel& p : pixels)
+    for (double e : p.exact) peak = std::max(peak, std::isfinite(e) ? e : 0.0);
+  const double select_cos = std::cos(kSelectThetaDeg * kPiD / 180.0);
+  for (Pixel& p : pixels) {
+    p.floor = kFloorFraction * peak;
+    p.selected = peak > 0.0 && p.nl >= select_cos && p.nv >= select_cos &&
+                 *std::min_element(p.exact.begin(), p.exact.end()) > p.floor;
+  }
+  return pixels;
+}
+
+std::vector<Pixel> scenes(const std::vector<Model>& models, const std::vector<double>& suns_deg, int grid,
+                          double offset, double theta_limit_deg, double window = 0.0) {
+  std::vector<Pixel> all;
+  for (double sun : suns_deg) {
+    std::vector<Pixel> one = sphere_scene(models, sun, grid, offset, theta_limit_deg, window);
+    all.insert(all.end(), one.begin(), one.end());
+  }
+  return all;
+}
+
+double ggx_value(double alpha, double nl, double nv, double nh) {
+  if (!(nl > 0.0) || !(nv > 0.0) || !(nh > 0.0)) return 0.0;
+  const double a2 = alpha * alpha;
+  const double t = nh * nh * (a2 - 1.0) + 1.0;
+  const double d = a2 / (kPiD * t * t);
+  auto g1 = [a2](double x) { return 2.0 * x / (x + std::sqrt(a2 + (1.0 - a2) * x * x)); };
+  return d * g1(nl) * g1(nv) / (4.0 * nv);
+}
+
+// Cycles' Beckmann: D = exp(-tan^2 / a^2) / (pi a^2 cos^4), Smith G1 by Walter et al.'s rational
+// approximation (as Cycles evaluates it).
+double beckmann_value(double alpha, double nl, double nv, double nh) {
+  if (!(nl > 0.0) || !(nv > 0.0) || !(nh > 0.0)) return 0.0;
+  const double c2 = nh * nh, t2 = (1.0 - c2) / c2, a2 = alpha * alpha;
+  const double d = std::exp(-t2 / a2) / (kPiD * a2 * c2 * c2);
+  auto g1 = [alpha](double x) {
+    const double tan_x = std::sqrt(std::max(1.0 - x * x, 0.0)) / x;
+    if (!(tan_x > 0.0)) return 1.0;
+    const double a = 1.0 / (alpha * tan_x);
+    return a < 1.6 ? (3.535 * a + 2.181 * a * a) / (1.0 + 2.276 * a + 2.577 * a * a) : 1.0;
+  };
+  return d * g1(nl) * g1(nv) / (4.0 * nv);
+}
+
+double blinn_value(double n, double nl, double nh) {
+  if (!(nl > 0.0) || !(nh > 0.0)) return 0.0;
+  return std::pow(nh, n);
+}
+
+// Non-negative least squares on normal equations (Lawson & Hanson's active-set method):
+// minimize x' G x - 2 b' x over x >= 0, G symmetric positive semi-definite (n small).
+class Nnls {
+ public:
+  static std::vector<double> solve(const std::vector<double>& G, const std::vector<double>& b, int n) {
+    std::vector<double> x(static_cast<std::size_t>(n), 0.0);
+    std::vector<char> passive(static_cast<std::size_t>(n), 0);
+    double diag = 0.0;
+    for (int i = 0; i < n; ++i) diag = std::max(diag, G[idx(i, i, n)]);
+    if (!(diag > 0.0)) return x;
+    const double ridge = 1e-11 * diag;  // keeps nearly collinear columns (similar lobes) solvable
+    const double tol = 1e-13 * diag;
+    for (int outer = 0; outer < 3 * n; ++outer) {
+      std::vector<double> w = gradient(G, b, x, n);
+      int t = -1;
+      double best = tol;
+      for (int i = 0; i < n; ++i)
+        if (!passive[static_cast<std::size_t>(i)] && w[static_cast<std::size_t>(i)] > best) {
+          best = w[static_cast<std::size_t>(i)];
+          t = i;
+        }
+      if (t < 0) break;
+      passive[static_cast<std::size_t>(t)] = 1;
+      for (int inner = 0; inner < 3 * n; ++inner) {
+        std::vector<double> z = solve_passive(G, b, passive, n, ridge);
+        bool feasible = true;
+        for (int i = 0; i < n; ++i)
+          if (passive[static_cast<std::size_t>(i)] && z[static_cast<std::size_t>(i)] <= 0.0) feasible = false;
+        if (feasible) {
+          x = z;
+          break;
+        }
+        double step = 1.0;
+        for (int i = 0; i < n; ++i) {
+          const auto u = static_cast<std::size_t>(i);
+          if (passive[u] && z[u] <= 0.0) step = std::min(step, x[u] / std::max(x[u] - z[u], 1e-300));
+        }
+        for (int i = 0; i < n; ++i) {
+          const auto u = static_cast<std::size_t>(i);
+          x[u] += step * (z[u] - x[u]);
+          if (passive[u] && x[u] <= 1e-15 * std::max(1.0, std::abs(z[u]))) {
+            passive[u] = 0;
+            x[u] = 0.0;
+          }
+        }
+      }
+    }
+    return x;
+  }
+
+  static std::vector<double> unconstrained(const std::vector<double>& G, const std::vector<double>& b, int n) {
+    double diag = 0.0;
+    for (int i = 0; i < n; ++i) diag = std::max(diag, G[idx(i, i, n)]);
+    if (!(diag > 0.0)) return std::vector<double>(static_cast<std::size_t>(n), 0.0);
+    return solve_passive(G, b, std::vector<char>(static_cast<std::size_t>(n), 1), n, 1e-9 * diag);
+  }
+
+ private:
+  static std::size_t idx(int i, int j, int n) { return static_cast<std::size_t>(i) * static_cast<std::size_t>(n) + static_cast<std::size_t>(j); }
+  static std::vector<double> gradient(const std::vector<double>& G, const std::vector<double>& b,
+                                      const std::vector<double>& x, int n) {
+    std::vector<double> w(b);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) w[static_cast<std::size_t>(i)] -= G[idx(i, j, n)] * x[static_cast<std::size_t>(j)];
+    return w;
+  }
+  // Solves G_PP z_P = b_P (Cholesky, ridge on the diagonal); z = 0 off P.
+  static std::vector<double> solve_passive(const std::vector<double>& G, const std::vector<double>& b,
+                                           const std::vector<char>& passive, int n, double ridge) {
+    std::vector<int> p;
+    for (int i = 0; i < n; ++i)
+      if (passive[static_cast<std::size_t>(i)]) p.push_back(i);
+    const int m = static_cast<int>(p.size());
+    std::vector<double> A(static_cast<std::size_t>(m * m)), y(static_cast<std::size_t>(m));
+    for (int i = 0; i < m; ++i) {
+      for (int j = 0; j < m; ++j) A[idx(i, j, m)] = G[idx(p[i], p[j], n)] + (i == j ? ridge : 0.0);
+      y[static_cast<std::size_t>(i)] = b[static_cast<std::size_t>(p[i])];
+    }
+    for (int j = 0; j < m; ++j) {  // A = L L' in place (lower)
+      double d = A[idx(j, j, m)];
+      for (int k = 0; k < j; ++k) d -= A[idx(j, k, m)] * A[idx(j, k, m)];
+      d = std::sqrt(std::max(d, 1e-300));
+      A[idx(j, j, m)] = d;
+      for (int i = j + 1; i < m; ++i) {
+        double s = A[idx(i, j, m)];
+        for (int k = 0; k < j; ++k) s -= A[idx(i, k, m)] * A[idx(j, k, m)];
+        A[idx(i, j, m)] = s / d;
+      }
+    }
+    for (int i = 0; i < m; ++i) {
+      double s = y[static_cast<std::size_t>(i)];
+      for (int k = 0; k < i; ++k) s -= A[idx(i, k, m)] * y[static_cast<std::size_t>(k)];
+      y[static_cast<std::size_t>(i)] = s / A[idx(i, i, m)];
+    }
+    for (int i = m - 1; i >= 0; --i) {
+      double s = y[static_cast<std::size_t>(i)];
+      for (int k = i + 1; k < m; ++k) s -= A[idx(k, i, m)] * y[static_cast<std::size_t>(k)];
+      y[static_cast<std::size_t>(i)] = s / A[idx(i, i, m)];
+    }
+    std::vector<double> z(static_cast<std::size_t>(n), 0.0);
+    for (int i = 0; i < m; ++i) z[static_cast<std::size_t>(p[i])] = y[static_cast<std::size_t>(i)];
+    return z;
+  }
+};
+
+double weight_of(const Pixel& p, std::size_t ch) {
+  const double scale = p.exact[ch] >= p.floor ? p.exact[ch] : kTailScale * p.floor;
+  return scale > 0.0 ? 1.0 / (scale * scale) : 0.0;
+}
+
+// Colours (and POV-Ray's S) for fixed roughnesses; returns the weighted squared error (the
+// objective: squared relative error above the floor, squared error / floor^2 below it).
+// Per channel, radiance = offset + sum_jk x_jk v_j(p) B_k(N.V): ggx/beckmann: offset 0, v_j the
+// lobe; blinn: offset sum_j S_j (N.H)^n_j F_m(N.L), v_j = (N.H)^n_j (1 - F_m) and x = S c. POV-Ray's S
+// is one number for the three channels: a first pass with S = 0 sets S_j = the largest x_jk (so
+// pigments stay <= 1 at the nodes), a second pass solves the colours with that S's F_m term.
+double solve_colours(LobeShape shape, bool signed_colours, std::vector<Lobe>& lobes, const std::vector<Pixel>& pixels) {
+  const int J = static_cast<int>(lobes.size());
+  constexpr int K = kColourTerms;
+  const int n = J * K;
+  const bool blinn = shape == LobeShape::blinn;
+  std::vector<double> value(static_cast<std::size_t>(J)), phi(static_cast<std::size_t>(n));
+  if (blinn)
+    for (Lobe& l : lobes) l.specular = 0.0;
+  double objective = 0.0;
+  for (int pass = 0; pass < (blinn ? 2 : 1); ++pass) {
+    std::array<std::vector<double>, 3> G, b;
+    std::array<double, 3> rr{};
+    for (auto& g : G) g.assign(static_cast<std::size_t>(n * n), 0.0);
+    for (auto& v : b) v.assign(static_cast<std::size_t>(n), 0.0);
+    for (const Pixel& p : pixels) {
+      double offset = 0.0, share = 1.0;
+      if (blinn) {
+        const double fm = povray_metallic_weight(p.nl);
+        share = 1.0 - fm;
+        for (int j = 0; j < J; ++j) {
+          const Lobe& l = lobes[static_cast<std::size_t>(j)];
+          value[static_cast<std::size_t>(j)] = blinn_value(l.roughness, p.nl, p.nh);
+          offset += l.specular * value[static_cast<std::size_t>(j)] * fm;
+        }
+      } else {
+        for (int j = 0; j < J; ++j) {
+          const double r = lobes[static_cast<std::size_t>(j)].roughness;
+          value[static_cast<std::size_t>(j)] =
+              shape == LobeShape::ggx ? ggx_value(r, p.nl, p.nv, p.nh) : beckmann_value(r, p.nl, p.nv, p.nh);
+        }
+      }
+      for (int j = 0; j < J; ++j)
+        for (int k = 0; k < K; ++k)
+          phi[static_cast<std::size_t>(j * K + k)] = value[static_cast<std::size_t>(j)] * share * p.basis[static_cast<std::size_t>(k)];
+      for (std::size_t ch = 0; ch < 3; ++ch) {
+        const double w = weight_of(p, ch);
+        if (w == 0.0) continue;
+        const double target = p.exact[ch] - offset;
+        rr[ch] += w * target * target;
+        for (int i = 0; i < n; ++i) {
+          const double wi = w * phi[static_cast<std::size_t>(i)];
+          if (wi == 0.0) continue;
+          b[ch][static_cast<std::size_t>(i)] += wi * target;
+          for (int j = 0; j <= i; ++j) G[ch][static_cast<std::size_t>(i * n + j)] += wi * phi[static_cast<std::size_t>(j)];
+        }
+      }
+    }
+    objective = 0.0;
+    for (std::size_t ch = 0; ch < 3; ++ch) {
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < i; ++j) G[ch][static_cast<std::size_t>(j * n + i)] = G[ch][static_cast<std::size_t>(i * n + j)];
+      const std::vector<double> x = signed_colours ? Nnls::unconstrained(G[ch], b[ch], n) : Nnls::solve(G[ch], b[ch], n);
+      double e = rr[ch];
+      for (int i = 0; i < n; ++i) {
+        e -= 2.0 * b[ch][static_cast<std::size_t>(i)] * x[static_cast<std::size_t>(i)];
+        for (int j = 0; j < n; ++j)
+          e += x[static_cast<std::size_t>(i)] * G[ch][static_cast<std::size_t>(i * n + j)] * x[static_cast<std::size_t>(j)];
+      }
+      objective += std::max(e, 0.0);
+      for (int j = 0; j < J; ++j)
+        for (int k = 0; k < K; ++k)
+          lobes[static_cast<std::size_t>(j)].colour[ch][static_cast<std::size_t>(k)] = x[static_cast<std::size_t>(j * K + k)];
+    }
+    if (!blinn) {
+      for (Lobe& l : lobes) l.specular = 1.0;
+    } else if (pass == 0) {
+      for (Lobe& l : lobes) {
+        double largest = 0.0;
+        for (const auto& c : l.colour)
+          for (double v : c) largest = std::max(largest, v);
+        l.specular = largest > 0.0 ? largest : 1e-6;  // POV-Ray needs S > 0
+      }
+    }
+  }
+  if (blinn)  // x = S c: the pigment coefficients
+    for (Lobe& l : lobes)
+      for (auto& c : l.colour)
+        for (double& v : c) v /= l.specular;
+  return objective;
+}
+
+FitQuality measure(const NativeFit& fit, const std::vector<Pixel>& pixels) {
+  std::vector<double> rel;
+  double lowest = 0.0;
+  for (const Pixel& p : pixels) {
+    for (int ch = 0; ch < 3 && p.floor > 0.0; ++ch)
+      lowest = std::min(lowest, fit.radiance(ch, p.nl, p.nv, p.nh) * kFloorFraction / p.floor);
+    if (!p.selected) continue;
+    for (int ch = 0; ch < 3; ++ch) {
+      const double e = p.exact[static_cast<std::size_t>(ch)];
+      rel.push_back(std::abs(fit.radiance(ch, p.nl, p.nv, p.nh) - e) / e);
+    }
+  }
+  FitQuality q;
+  q.values = rel.size();
+  q.lowest = lowest;
+  if (rel.empty()) return q;
+  std::sort(rel.begin(), rel.end());
+  auto quantile = [&](double f) { return rel[std::min(rel.size() - 1, static_cast<std::size_t>(f * static_cast<double>(rel.size())))]; };
+  q.median = quantile(0.5);
+  q.p95 = quantile(0.95);
+  q.max = rel.back();
+  return q;
+}
+
+// Widths in eta_r of J groups of MBK terms of equal Poisson mass at theta_i = theta_s = 30 deg
+// (fit.h); a surface without sigma_s/l_c (given sigma_g) starts from sigma_g.
+std::vector<double> initial_widths(const Model& model, int J) {
+  const ModelParameters& p = model.parameters();
+  std::vector<double> widths;
+  if (p.sigma_s_um && p.lc_um && *p.sigma_s_um > 0.0) {
+    const double lambda = p.wavelength_um, lc = *p.lc_um;
+    const double k = 2.0 * kPiD * *p.sigma_s_um / lambda;
+    const double g = k * k * 3.0;  // (cos 30 + cos 30)^2 = 3
+    // log of e^-g g^m / (m! m), m >= 1, over the window that carries the mass.
+    const double spread = 10.0 * std::sqrt(g) + 10.0;
+    const auto m_lo = static_cast<long long>(std::max(1.0, std::floor(g - spread)));
+    const auto m_hi = static_cast<long long>(std::ceil(g + spread));
+    std::vector<double> mass, ms;
+    double total = 0.0;
+    for (long long m = m_lo; m <= m_hi; ++m) {
+      const double md = static_cast<double>(m);
+      const double w = std::exp(-g + md * std::log(g) - std::lgamma(md + 1.0) - std::log(md));
+      mass.push_back(w);
+      ms.push_back(md);
+      total += w;
+    }
+    double acc = 0.0;
+    std::size_t i = 0;
+    for (int j = 0; j < J; ++j) {
+      const double end = total * (j + 1) / J;
+      double wsum = 0.0, msum = 0.0;
+      while (i < mass.size() && (acc < end || wsum == 0.0)) {
+        acc += mass[i];
+        wsum += mass[i];
+        msum += mass[i] * std::sqrt(ms[i]);
+        ++i;
+      }
+      const double root_m = wsum > 0.0 ? msum / wsum : std::sqrt(ms.back());
+      widths.push_back(root_m * lambda / (kPiD * lc));
+    }
+  } else {
+    const double sigma_g = model.sigma_g() > 0.0 ? model.sigma_g() : 0.2;
+    for (int j = 0; j < J; ++j) widths.push_back(2.0 * std::sqrt(2.0) * sigma_g);
+  }
+  // Distinct starting lobes: consecutive widths at least 1.4x apart (a polished surface has all its
+  // mass in m = 1, a narrow Gaussian whose GGX match still wants a narrower core and a wider skirt).
+  std::sort(widths.begin(), widths.end());
+  for (std::size_t j = 1; j < widths.size(); ++j) widths[j] = std::max(widths[j], 1.4 * widths[j - 1]);
+  const double shift = std::pow(1.4, -0.5 * (J - 1));
+  if (widths.size() > 1 && widths.front() == widths.back()) for (double& w : widths) w *= shift;
+  return widths;
+}
+
+double roughness_from_width(LobeShape shape, double width) {
+  // GGX near its peak ~ Beckmann exp(-tan^2 theta_h / alpha^2) with eta_r ~ 2 tan theta_h;
+  // Blinn (N.H)^n ~ exp(-n theta_h^2 / 2). A Gaussian exp(-(eta_r/w)^2) gives alpha = w/2, n = 8/w^2.
+  return shape != LobeShape::blinn ? std::clamp(0.5 * width, kMinAlpha, kMaxAlpha)
+                                 : std::clamp(8.0 / (width * width), kMinExponent, kMaxExponent);
+}
+
+double clamp_roughness(LobeShape shape, double r) {
+  return shape != LobeShape::blinn ? std::clamp(r, kMinAlpha, kMaxAlpha) : std::clamp(r, kMinExponent, kMaxExponent);
+}
+
+// Nelder-Mead on log roughness (J dimensions); the colours are solved exactly at every trial.
+std::vector<Lobe> refine(LobeShape shape, bool signed_colours, std::vector<Lobe> lobes, const std::vector<Pixel>& pixels,
+                         int evaluations) {
+  const int J = static_cast<int>(lobes.size());
+  auto at = [&](const std::vector<double>& logs, std::vector<Lobe>& out) {
+    out = lobes;
+    for (int j = 0; j < J; ++j) out[static_cast<std::size_t>(j)].roughness = clamp_roughness(shape, std::exp(logs[static_cast<std::size_t>(j)]));
+    return solve_colours(shape, signed_colours, out, pixels);
+  };
+  std::vector<std::vector<double>> simplex;
+  std::vector<double> values;
+  std::vector<Lobe> scratch;
+  std::vector<double> start;
+  for (const Lobe& l : lobes) start.push_back(std::log(l.roughness));
+  simplex.push_back(start);
+  for (int j = 0; j < J; ++j) {
+    std::vector<double> v = start;
+    v[static_cast<std::size_t>(j)] += 0.4;  // 1.5x in roughness
+    simplex.push_back(v);
+  }
+  for (const auto& v : simplex) values.push_back(at(v, scratch));
+  int used = static_cast<int>(simplex.size());
+  while (used < evaluations) {
+    std::vector<std::size_t> order(simplex.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return values[a] < values[b]; });
+    const std::size_t best = order.front(), worst = order.back(), second = order[order.size() - 2];
+    if (values[worst] - values[best] <= 1e-7 * std::max(values[best], 1e-300)) break;
+    std::vector<double> centroid(static_cast<std::size_t>(J), 0.0);
+    for (std::size_t i : order)
+      if (i != worst)
+        for (int j = 0; j < J; ++j) centroid[static_cast<std::size_t>(j)] += simplex[i][static_cast<std::size_t>(j)] / J;
+    auto along = [&](double t) {
+      std::vector<double> v(static_cast<std::size_t>(J));
+      for (int j = 0; j < J; ++j) {
+        const auto u = static_cast<std::size_t>(j);
+        v[u] = centroid[u] + t * (simplex[worst][u] - centroid[u]);
+      }
+      return v;
+    };
+    const std::vector<double> reflected = along(-1.0);
+    const double fr = at(reflected, scratch);
+    ++used;
+    if (fr < values[best]) {
+      const std::vector<double> expanded = along(-2.0);
+      const double fe = at(expanded, scratch);
+      ++used;
+      if (fe < fr) simplex[worst] = expanded, values[worst] = fe;
+      else simplex[worst] = reflected, values[worst] = fr;
+    } else if (fr < values[second]) {
+      simplex[worst] = reflected, values[worst] = fr;
+    } else {
+      const std::vector<double> contracted = along(fr < values[worst] ? -0.5 : 0.5);
+      const double fc = at(contracted, scratch);
+      ++used;
+      if (fc < std::min(fr, values[worst])) {
+        simplex[worst] = contracted, values[worst] = fc;
+      } else {
+        for (std::size_t i = 0; i < simplex.size(); ++i) {
+          if (i == best) continue;
+          for (int j = 0; j < J; ++j) {
+            const auto u = static_cast<std::size_t>(j);
+            simplex[i][u] = simplex[best][u] + 0.5 * (simplex[i][u] - simplex[best][u]);
+          }
+          values[i] = at(simplex[i], scratch);
+          ++used;
+        }
+      }
+    }
+  }
+  const std::size_t best = static_cast<std::size_t>(std::min_element(values.begin(), values.end()) - values.begin());
+  std::vector<Lobe> out;
+  at(simplex[best], out);
+  // Sharpest lobe first (the order the exporters list them in).
+  std::sort(out.begin(), out.end(), [shape](const Lobe& a, const Lobe& b) {
+    return shape != LobeShape::blinn ? a.roughness < b.roughness : a.roughness > b.roughness;
+  });
+  return out;
+}
+
+}  // namespace
+
+double bernstein(int k, double mu) {
+  static constexpr std::array<double, kColourTerms> binomial = [] {
+    std::array<double, kColourTerms> c{};
+    for (int i = 0; i < kColourTerms; ++i) {
+      double v = 1.0;
+      for (int j = 1; j <= i; ++j) v = v * (kColourDegree - j + 1) / j;
+      c[static_cast<std::size_t>(i)] = v;
+    }
+    return c;
+  }();
+  const double x = std::clamp(mu, 0.0, 1.0);
+  return binomial[static_cast<std::size_t>(k)] * std::pow(x, k) * std::pow(1.0 - x, kColourDegree - k);
+}
+
+double lobe_colour(const Lobe& lobe, int channel, double mu_v) {
+  double c = 0.0;
+  for (int k = 0; k < kColourTerms; ++k)
+    c += lobe.colour[static_cast<std::size_t>(channel)][static_cast<std::size_t>(k)] * bernstein(k, mu_v);
+  return c;
+}
+
+double povray_metallic_weight(double n_dot_l) {
+  const double x = std::acos(std::clamp(n_dot_l, -1.0, 1.0)) / (0.5 * kPiD);
+  return std::clamp(0.014567225 / ((x - 1.12) * (x - 1.12)) - 0.011612903, 0.0, 1.0);
+}
+
+double lobe_radiance(LobeShape shape, const Lobe& lobe, int channel, double n_dot_l, double n_dot_v, double n_dot_h) {
+  if (!(n_dot_l > 0.0) || !(n_dot_v > 0.0)) return 0.0;
+  const double c = lobe_colour(lobe, channel, n_dot_v);
+  if (shape == LobeShape::ggx) return c * ggx_value(lobe.roughness, n_dot_l, n_dot_v, n_dot_h);
+  if (shape == LobeShape::beckmann) return c * beckmann_value(lobe.roughness, n_dot_l, n_dot_v, n_dot_h);
+  const double fm = povray_metallic_weight(n_dot_l);
+  return lobe.specular * blinn_value(lobe.roughness, n_dot_l, n_dot_h) * (fm + (1.0 - fm) * c);
+}
+
+double NativeFit::radiance(int channel, double n_dot_l, double n_dot_v, double n_dot_h) const {
+  double sum = 0.0;
+  for (const Lobe& l : lobes) sum += lobe_radiance(shape, l, channel, n_dot_l, n_dot_v, n_dot_h);
+  return sum;
+}
+
+void validate_target_error(double target_error) {
+  if (!std::isfinite(target_error) || !(target_error > 0.0) || target_error > 1.0)
+    throw InvalidArgument("target-error", "must be a relative error in (0, 1] (got " + std::to_string(target_error) + ")");
+}
+
+NativeFit fit_native_lobes(const std::vector<Model>& models, const FitRequest& request) {
+  validate_target_error(request.target_error);
+  if (models.size() != 1 && models.size() != 3)
+    throw InvalidArgument("wavelength", "the native-lobe fit takes 1 or 3 channels (got " + std::to_string(models.size()) + ")");
+  if (request.max_lobes < 1 || request.max_lobes > 8)
+    throw InvalidArgument("max-lobes", "must be in 1..8 (got " + std::to_string(request.max_lobes) + ")");
+  NativeFit fit;
+  fit.shape = request.shape;
+  fit.target_error = request.target_error;
+  fit.channels = static_cast<int>(models.size());
+  fit.signed_colours = request.signed_colours;
+  // Fitting and validation scenes (fit.h): different sun angles and pixel grids.
+  // The narrowest channel's narrowest group of terms sets how finely the lobe is sampled: the
+  // training scenes add a window of 4 widths around the half vector, the validation grid gives the
+  // lobe at least ~12 pixels of radius (uniform pixels, as in a render).
+  double narrowest = 1.0;
+  for (const Model& m : models) narrowest = std::min(narrowest, initial_widths(m, 1).front());
+  const double window = std::min(1.0, 2.0 * narrowest);  // eta_r ~ 2 x (projected normal offset)
+  const int check_grid = std::clamp(static_cast<int>(std::ceil(24.0 / std::max(window, 1e-3))), 56, 320);
+  const std::vector<Pixel> train = scenes(models, {5, 20, 35, 50, 65, 80, 95, 110}, 32, 0.5, kFitThetaDeg,
+                                          window < 0.5 ? window : 0.0);
+  const std::vector<Pixel> check = scenes(models, {10, 40, 70, 100}, check_grid, 0.31, kFitThetaDeg);
+  double peak = 0.0;
+  for (const Pixel& p : train) peak = std::max(peak, p.floor);
+  if (!(peak > 0.0)) {  // no scattered light at all (e.g. sigma_s = 0: only the spike)
+    fit.target_met = true;
+    return fit;
+  }
+  const Model& reference = models[models.size() / 2];
+  NativeFit best;
+  std::vector<Lobe> previous;
+  for (int J = 1; J <= request.max_lobes; ++J) {
+    // Start: the Poisson groups' widths (fit.h), or, when better, the previous count's optimum
+    // plus one lobe (narrower or wider than its extremes, alternately).
+    std::vector<Lobe> lobes(static_cast<std::size_t>(J));
+    const std::vector<double> widths = initial_widths(reference, J);
+    for (int j = 0; j < J; ++j) lobes[static_cast<std::size_t>(j)].roughness = roughness_from_width(request.shape, widths[static_cast<std::size_t>(j)]);
+    if (!previous.empty()) {
+      std::vector<Lobe> grown = previous;
+      Lobe extra = J % 2 == 0 ? grown.back() : grown.front();  // sorted sharpest first
+      const double factor = request.shape == LobeShape::blinn ? (J % 2 == 0 ? 0.5 : 2.0) : (J % 2 == 0 ? 1.5 : 0.7);
+      extra.roughness = clamp_roughness(request.shape, extra.roughness * factor);
+      grown.push_back(extra);
+      std::vector<Lobe> a = grown, b = lobes;
+      if (solve_colours(request.shape, request.signed_colours, a, train) <
+          solve_colours(request.shape, request.signed_colours, b, train))
+        lobes = grown;
+    }
+    NativeFit trial = fit;
+    trial.lobes = refine(request.shape, request.signed_colours, lobes, train, 50 + 30 * J);
+    trial.quality = measure(trial, check);
+    previous = trial.lobes;
+    fit.tried.push_back(trial.quality);
+    if (best.lobes.empty() || trial.quality.p95 < best.quality.p95) best = trial;
+    if (trial.quality.p95 <= request.target_error) break;
+  }
+  best.tried = fit.tried;
+  best.target_met = best.quality.p95 <= request.target_error;
+  return best;
+}
+
+}  // namespace libbrdf::fit
