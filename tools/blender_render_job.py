@@ -11,6 +11,7 @@ JOB.json (written by tools/render_blender_comparison.py and tests/blender/test_b
       "camera": {"direction": [x, y, z], "ortho_scale": S},   # direction: from the origin to the camera
       "sun": {"direction": [x, y, z], "strength": E, "color": [r, g, b], "angle_deg": 0, "shadow": true},
       "world": [r, g, b],                      # constant background radiance
+      "extra_suns": [{same keys as "sun"}, ...],  # LUT/OSL materials sum every sun (optional)
       "passes": ["normal", "emit", ...],
       "keep_objects": false,                   # true: keep the previous render's objects and materials
       "objects": [{"shape": "sphere"|"torus"|"ellipsoid"|"monkey"|"cube",
@@ -172,6 +173,20 @@ def main():
         sun.data.color = r["sun"].get("color", (1.0, 1.0, 1.0))
         sun.data.angle = math.radians(r["sun"].get("angle_deg", 0.0))
         sun.data.use_shadow = r["sun"].get("shadow", True)
+        # Further suns ("extra_suns": same keys as "sun"), named after the first so that it stays first.
+        wanted = {f"libbrdf sun {i}" for i in range(2, 2 + len(r.get("extra_suns", [])))}
+        for stale in [o for o in scene.objects if o.name.startswith("libbrdf sun ") and o.name not in wanted]:
+            bpy.data.objects.remove(stale, do_unlink=True)
+        for index, spec in enumerate(r.get("extra_suns", []), start=2):
+            extra = scene.objects.get(f"libbrdf sun {index}")
+            if extra is None:
+                extra = bpy.data.objects.new(f"libbrdf sun {index}", bpy.data.lights.new(f"libbrdf sun {index}", "SUN"))
+                scene.collection.objects.link(extra)
+            extra.rotation_euler = look_rotation(spec["direction"])
+            extra.data.energy = spec.get("strength", 1.0)
+            extra.data.color = spec.get("color", (1.0, 1.0, 1.0))
+            extra.data.angle = math.radians(spec.get("angle_deg", 0.0))
+            extra.data.use_shadow = spec.get("shadow", True)
         camera_direction = mathutils.Vector(r["camera"]["direction"]).normalized()
         cam.location = camera_direction * 10.0
         cam.rotation_euler = look_rotation(camera_direction)
@@ -204,8 +219,11 @@ def main():
                 "sun_strength": evaluated.inputs["Sun Strength"].default_value,
                 "description": group.node_tree.get("libbrdf_description", ""),
             })
+        extra_suns = [o for o in scene.objects if o.type == "LIGHT" and o.name.startswith("libbrdf sun ")]
         results.append({
             "output": r["output"],
+            "extra_suns": [{"direction": list(o.matrix_world.col[2].xyz.normalized()), "strength": o.data.energy,
+                            "color": list(o.data.color)} for o in sorted(extra_suns, key=lambda o: o.name)],
             "camera_direction": list(cam.matrix_world.col[2].xyz.normalized()),
             "sun_direction": list(sun.matrix_world.col[2].xyz.normalized()),
             "sun_strength": sun.data.energy,

@@ -13,10 +13,15 @@ class SetupError(RuntimeError):
     """Something in the scene keeps the material from being set up (one-line message)."""
 
 
+def scene_suns(scene):
+    """The scene's Sun lamps, by object name."""
+    return sorted((o for o in scene.objects if o.type == "LIGHT" and o.data.type == "SUN"), key=lambda o: o.name)
+
+
 def first_sun(scene):
     """The scene's first Sun lamp (by object name), or None."""
-    suns = [o for o in scene.objects if o.type == "LIGHT" and o.data.type == "SUN"]
-    return sorted(suns, key=lambda o: o.name)[0] if suns else None
+    suns = scene_suns(scene)
+    return suns[0] if suns else None
 
 
 def _new_interface_socket(tree, name, socket_type, in_out):
@@ -202,7 +207,44 @@ def apply_graph(obj, graph, scene, description_path=""):
     group = attach_group(material, tree)
     if sun is not None:
         drive_light_inputs(material, group, sun)
+    if graph.notes.get("mode") in ("LUT", "OSL"):
+        attach_extra_suns(material, group, scene_suns(scene)[1:])
     return material, group, messages
+
+
+EXTRA_SUN_PREFIX = "libbrdf sun "
+
+
+def attach_extra_suns(material, group, suns):
+    """Every Sun after the first lights the material too: one more instance of the same node group
+    per sun (its own drivers: direction, strength, colour), whose Radiance is emitted and added to
+    the first group's Shader (emission + mirror lobe). The table is shared; only the few light
+    nodes run once per sun. Suns added later need the material applied again."""
+    nodes, links = material.node_tree.nodes, material.node_tree.links
+    for node in [n for n in nodes if n.name.startswith(EXTRA_SUN_PREFIX)]:
+        nodes.remove(node)
+    if not suns:
+        return
+    output = next(link.to_node for link in group.outputs["Shader"].links)
+    total = group.outputs["Shader"]
+    for index, sun in enumerate(suns, start=2):
+        extra = nodes.new("ShaderNodeGroup")
+        extra.name = f"{EXTRA_SUN_PREFIX}{index}"
+        extra.label = f"{group.node_tree.name} ({sun.name})"
+        extra.node_tree = group.node_tree
+        extra.location = (group.location.x, group.location.y - 220 * (index - 1))
+        drive_light_inputs(material, extra, sun)
+        emission = nodes.new("ShaderNodeEmission")
+        emission.name = f"{EXTRA_SUN_PREFIX}{index} emission"
+        emission.location = (extra.location.x + 180, extra.location.y)
+        links.new(extra.outputs["Radiance"], emission.inputs["Color"])
+        add = nodes.new("ShaderNodeAddShader")
+        add.name = f"{EXTRA_SUN_PREFIX}{index} add"
+        add.location = (emission.location.x + 160, emission.location.y)
+        links.new(total, add.inputs[0])
+        links.new(emission.outputs[0], add.inputs[1])
+        total = add.outputs[0]
+    links.new(total, output.inputs["Surface"])
 
 
 def cache_directory(preferences_directory=""):

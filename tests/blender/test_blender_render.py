@@ -6,7 +6,7 @@ transform, no denoising, 0.01-pixel box filter, multilayer EXR with Normal and E
 compares each pixel inside the object (mask eroded by 2 pixels; theta_i, theta_s <= 70 deg;
 radiance above 1% of the object's maximum) with the library's prediction from `brdf eval` at the
 pixel's angles (tests/blender/render_check.py):
-  LUT mode: Emit pass = f_r cos(theta_i) E C within 2% (max), for two surfaces (rough Au, MBK;
+  LUT mode: Emit pass = f_r cos(theta_i) E C within 2% (max) (two suns in one scene: their sum), for two surfaces (rough Au, MBK;
             rough BK7, BK), two sun directions each (the second one moves the lamp and renders
             again: the drivers must follow), on a sphere and a torus; and on the sphere, the
             mirror lobe (Combined - Emit) = R_spec(theta_v) x world colour within 2%.
@@ -45,13 +45,15 @@ BK7 = {"model": "bk", "material": "BK7", "sigma_s": 0.15, "lc": 1.5, "resolution
 CAMERA = {"direction": [0.0, -1.0, 0.35], "ortho_scale": 2.3}
 SUN_1 = {"direction": [0.55, -1.0, 0.7], "strength": 3.0, "color": [1.0, 0.95, 0.9]}
 SUN_2 = {"direction": [-0.7, -0.8, -0.15], "strength": 2.0, "color": [1.0, 1.0, 1.0]}
+SUN_3 = {"direction": [-0.3, -1.0, 0.2], "strength": 1.5, "color": [0.8, 0.9, 1.0]}
 WORLD = [0.25, 0.25, 0.25]
 
 
 def scenes(out, engine):
-    def render(name, shape, material, mode, sun, world, keep=False, rotation=(0.0, 0.0, 0.0)):
+    def render(name, shape, material, mode, sun, world, keep=False, rotation=(0.0, 0.0, 0.0), extra_suns=()):
         return {"name": name, "output": os.path.join(out, name + ".exr"), "resolution": [96, 96],
                 "samples": 1, "engine": engine, "camera": CAMERA, "sun": sun, "world": world,
+                "extra_suns": list(extra_suns),
                 "passes": ["normal", "emit"], "keep_objects": keep,
                 "objects": [{"shape": shape, "rotation_deg": list(rotation), "material": dict(material, mode=mode)}]}
     torus_rotation = (62.0, 0.0, 25.0)
@@ -65,6 +67,8 @@ def scenes(out, engine):
         render("torus_bk7_sun1", "torus", BK7, "LUT", SUN_1, [0.0, 0.0, 0.0], rotation=torus_rotation),
         render("torus_bk7_sun2", "torus", BK7, "LUT", SUN_2, [0.0, 0.0, 0.0], keep=True, rotation=torus_rotation),
         render("sphere_au_fit", "sphere", AU, "FIT", SUN_1, [0.0, 0.0, 0.0]),
+        # Two suns in one scene: the LUT material must show their sum (issue 10).
+        render("sphere_au_two_suns", "sphere", AU, "LUT", SUN_1, [0.0, 0.0, 0.0], extra_suns=[SUN_3]),
         render("torus_bk7_fit", "torus", BK7, "FIT", SUN_1, [0.0, 0.0, 0.0], rotation=torus_rotation),
     ]
 
@@ -136,6 +140,12 @@ def run(args, tmp):
             normal_list = normals[mask]
             predicted, (ti, ts, _) = render_check.predicted_radiance(
                 BRDF, model, channels, normal_list, light, view, result["sun_strength"], result["sun_color"])
+            for extra in result.get("extra_suns", []):  # every sun adds its own f_r cos(theta_i) E C
+                more, (ti2, ts2, _) = render_check.predicted_radiance(
+                    BRDF, model, channels, normal_list, np.array(extra["direction"]), view, extra["strength"],
+                    extra["color"])
+                predicted = predicted + more
+                ti = np.where(more.max(axis=1) > 0, np.maximum(ti, ti2), ti)
             emit = passes["Emit"][:, :, :3][mask]
             selected = (ti <= 70) & (ts <= 70) & (predicted.min(axis=1) > 0.01 * predicted.max())
             rel = np.abs(emit - predicted)[selected] / predicted[selected]
@@ -143,6 +153,9 @@ def run(args, tmp):
             check(selected.sum() >= 100 and worst <= MAX_RELATIVE_ERROR,
                   f"{render['name']}: {model} {material['material']} emission vs brdf eval, {selected.sum()} pixels "
                   f"(of {mask.sum()}), max rel {worst:.4f} <= {MAX_RELATIVE_ERROR} (median {np.median(rel):.5f})")
+            if result.get("extra_suns"):
+                check(len(result["extra_suns"]) == 1 and selected.sum() >= 100,
+                      f"{render['name']}: two suns, their sum is what the LUT material emits")
             lut_emit[(render["objects"][0]["shape"], tuple(render["sun"]["direction"]))] = (emit, selected, mask)
             if max(render["world"]) > 0:
                 spike = render_check.predicted_spike(BRDF, model, channels, normal_list, view, render["world"])
