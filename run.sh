@@ -39,7 +39,7 @@ timings="$out/timings.csv"
 echo "stage,title,status,seconds,log" >"$timings"
 failed=()
 stage_no=0
-stage_total=10
+stage_total=11
 
 seconds_since() { awk -v a="$1" -v b="$EPOCHREALTIME" 'BEGIN { printf "%.1f", b - a }'; }
 human() {  # 75.3 -> 1m15s, 8.25 -> 8.2 s
@@ -133,6 +133,10 @@ stage_blender() {
   need_script tools/render_blender_comparison.py || return 1
   "$py" "$root/tools/render_blender_comparison.py" --brdf "$brdf" --out "$out/renders" "${small_flag[@]}"
 }
+stage_fitscene() {
+  need_script tools/render_fit_scene.py || return 1
+  "$py" "$root/tools/render_fit_scene.py" --brdf "$brdf" --out "$out/renders" "${small_flag[@]}"
+}
 stage_index() {
   "$py" "$root/tools/report/make_index.py" --out "$out" --brdf "$brdf" "${small_flag[@]}"
 }
@@ -160,6 +164,7 @@ run_stage albedo "Directional albedo (white furnace) of every model, both K mode
 run_stage bench "Speed against error (brdf bench --quick)" stage_bench
 run_stage povray "POV-Ray comparison renders" stage_povray
 run_stage blender "Blender comparison renders" stage_blender
+run_stage fitscene "FIT materials in a scene: sky + two suns, Blender and POV-Ray side by side" stage_fitscene
 run_stage index "Write the report (index.html)" stage_index
 # Once more so that the report lists the index stage's own time too (takes well under a second).
 stage_index >>"$out/logs/$(printf %02d "$stage_no")-index.log" 2>&1

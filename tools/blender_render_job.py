@@ -14,7 +14,8 @@ JOB.json (written by tools/render_blender_comparison.py and tests/blender/test_b
       "extra_suns": [{same keys as "sun"}, ...],  # LUT/OSL materials sum every sun (optional)
       "passes": ["normal", "emit", ...],
       "keep_objects": false,                   # true: keep the previous render's objects and materials
-      "objects": [{"shape": "sphere"|"torus"|"ellipsoid"|"monkey"|"cube",
+      "objects": [{"shape": "sphere"|"torus"|"ellipsoid"|"monkey"|"cube"|"plane",
+                   "diffuse": [r, g, b],           # instead of "material": a Lambertian surface
                    "location": [...], "scale": [...], "rotation_deg": [...], "visible_glossy": true,
                    "material": {operator arguments of bpy.ops.libbrdf.add_material}}]}]}
 
@@ -89,10 +90,12 @@ def add_object(scene, spec):
         modifier.levels = modifier.render_levels = 2
     elif shape == "cube":
         bpy.ops.mesh.primitive_cube_add(size=1.4)
+    elif shape == "plane":
+        bpy.ops.mesh.primitive_plane_add(size=1.0)
     else:
         raise SystemExit(f"shape: unknown {shape!r}")
     obj = bpy.context.active_object
-    if shape != "cube":
+    if shape not in ("cube", "plane"):
         bpy.ops.object.shade_smooth()
     obj.location = spec.get("location", (0.0, 0.0, 0.0))
     if "scale" in spec:
@@ -100,6 +103,19 @@ def add_object(scene, spec):
     obj.rotation_euler = [math.radians(a) for a in spec.get("rotation_deg", (0.0, 0.0, 0.0))]
     obj.visible_glossy = spec.get("visible_glossy", True)  # seen in other objects' glossy reflections
     bpy.context.view_layer.objects.active = obj
+    if "diffuse" in spec:  # a plain Lambertian surface (ground, props), not a libbrdf material
+        material = bpy.data.materials.new(f"diffuse {obj.name}")
+        material.use_nodes = True
+        nodes = material.node_tree.nodes
+        for node in list(nodes):
+            if node.bl_idname != "ShaderNodeOutputMaterial":
+                nodes.remove(node)
+        diffuse = nodes.new("ShaderNodeBsdfDiffuse")
+        diffuse.inputs["Color"].default_value = (*spec["diffuse"], 1.0)
+        output = next(n for n in nodes if n.bl_idname == "ShaderNodeOutputMaterial")
+        material.node_tree.links.new(diffuse.outputs[0], output.inputs["Surface"])
+        obj.data.materials.append(material)
+        return obj
     result = bpy.ops.libbrdf.add_material(**spec["material"])
     if result != {"FINISHED"}:
         raise SystemExit(f"libbrdf.add_material failed for {spec}")
@@ -129,10 +145,10 @@ def configure_render(scene, r):
         c.seed = 0
         c.max_bounces = r.get("max_bounces", 4)
         c.glossy_bounces = r.get("glossy_bounces", 4)
-        c.caustics_reflective = True
+        c.caustics_reflective = r.get("caustics", True)
         c.blur_glossy = 0.0
         c.sample_clamp_direct = 0.0
-        c.sample_clamp_indirect = 0.0
+        c.sample_clamp_indirect = r.get("clamp_indirect", 0.0)  # > 0: a scene render's firefly clamp
         # Cycles' default 0.01 terminates light samples below that contribution at random (0 or
         # 0.01 per pixel at 1 sample): off, so that dim pixels are exact too.
         c.light_sampling_threshold = 0.0
@@ -209,6 +225,8 @@ def main():
         for obj in [o for o in scene.objects if o.type == "MESH"]:
             mat = obj.active_material
             group = mat.node_tree.nodes.get("libbrdf")
+            if group is None:  # a plain surface ("diffuse")
+                continue
             evaluated = mat.evaluated_get(depsgraph).node_tree.nodes.get("libbrdf")
             materials.append({
                 "object": obj.name,

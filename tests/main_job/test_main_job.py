@@ -43,10 +43,10 @@ def run_job():
     if job.returncode != 0:
         # The last line names every failed stage (and each failure printed its own line above).
         sys.exit(f"FAIL: run.sh --small exited {job.returncode}: {job.stderr.strip().splitlines()[-1:]}")
-    for k in range(1, 11):
-        check(f"[{k}/10]" in job.stderr, f"progress display lacks stage [{k}/10]")
-    check(len(re.findall(r"ok in [0-9.]+ s|ok in [0-9]+m[0-9]{2}s", job.stderr)) == 8,
-          "progress display should report 'ok in <time>' for the 8 stages that ran")
+    for k in range(1, 12):
+        check(f"[{k}/11]" in job.stderr, f"progress display lacks stage [{k}/11]")
+    check(len(re.findall(r"ok in [0-9.]+ s|ok in [0-9]+m[0-9]{2}s", job.stderr)) == 9,
+          "progress display should report 'ok in <time>' for the 9 stages that ran")
 
 
 def check_promised_files():
