@@ -35,9 +35,12 @@ sigset_t handled_signals() {
   }
   libbrdf::PublicationLock lock;  // no rename is in progress from here on
   lock.remove_temporaries();
+  // Every command publishes its outputs once (one file, or one group): counted under the lock, so
+  // a signal right after the rename is not reported as "no file written".
+  const bool complete = published.load() || lock.publications() > 0;
   const char* name = signal_number == SIGINT ? "SIGINT" : signal_number == SIGTERM ? "SIGTERM" : "SIGHUP";
   const std::string message = "brdf: " + command + " interrupted (" + name + "); " +
-                              (published.load() ? "the output files were already complete" : "no file written") + "\n";
+                              (complete ? "the output files were already complete" : "no file written") + "\n";
   [[maybe_unused]] const ssize_t written = ::write(STDERR_FILENO, message.data(), message.size());
   ::_exit(128 + signal_number);
 }

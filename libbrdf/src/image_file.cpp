@@ -33,6 +33,7 @@ namespace {
 struct TemporaryRegistry {
   std::mutex mutex;
   std::set<std::string> temporaries;
+  std::size_t publications = 0;  // renames (a group counts once), under `mutex`
 };
 TemporaryRegistry& registry() {
   static auto* instance = new TemporaryRegistry;
@@ -81,6 +82,8 @@ int lock_directory(const std::filesystem::path& directory, int operation) {
 
 PublicationLock::PublicationLock() { registry().mutex.lock(); }
 PublicationLock::~PublicationLock() { registry().mutex.unlock(); }
+std::size_t PublicationLock::publications() const { return registry().publications; }
+
 void PublicationLock::remove_temporaries() {
   for (const std::string& path : registry().temporaries) ::unlink(path.c_str());
   registry().temporaries.clear();
@@ -117,6 +120,7 @@ void PublicationGroup::publish() {
       if (!failure.empty()) ::unlink(temporary.c_str());
       registry().temporaries.erase(temporary);
     }
+    if (failure.empty() && !staged_.empty()) ++registry().publications;
     staged_.clear();
   }
   for (int fd : locks)
@@ -160,6 +164,8 @@ void write_file_atomically(const std::string& path, const std::string& suffix,
     if (::rename(temporary.c_str(), target.c_str()) != 0) {
       failure = path + ": cannot rename the temporary file into place (" + std::strerror(errno) + ")";
       ::unlink(temporary.c_str());
+    } else {
+      ++registry().publications;
     }
     registry().temporaries.erase(temporary.string());
   }

@@ -68,7 +68,7 @@ class NoHang(Case):
     def test_sigma_or_lc_1e308_is_a_range_error(self):
         for model in ["mbk", "mbk-polished", "bk", "g", "microfacet", "k"]:
             self.assert_usage_error(["eval", "--model", model, "--sigma-s", "1e308", "--lc", "2"] + GOLD +
-                                    ["--at", "30,40,180"], ["sigma_s", "1e+150"])
+                                    ["--at", "30,40,180"], ["sigma_s", "1e+15"])
             self.assert_usage_error(["eval", "--model", model, "--sigma-s", "0.1", "--lc", "1e308"] + GOLD +
                                     ["--at", "30,40,180"], ["lc", "1e+06"])
 
@@ -89,7 +89,7 @@ class NoNaN(Case):
     def test_values_at_the_range_ends_are_finite(self):
         for model in ["mbk", "mbk-polished", "bk", "bk-modified", "microfacet", "fresnel", "r-spec", "g"]:
             for extra in [["--n", "1000", "--k", "1000", "--sigma-s", "0.1", "--lc", "2"],
-                          ["--n", "1.5", "--sigma-s", "5.5e149", "--lc", "2"],
+                          ["--n", "1.5", "--sigma-s", "5.5e14", "--lc", "2"],
                           ["--n", "1.5", "--sigma-s", "0.1", "--lc", "5.5e-7"]]:
                 rc, out, err, _ = run(["eval", "--model", model, "--wavelength", "0.55"] + extra +
                                       ["--at", "30,40,180", "--at", "0,0,0", "--at", "89,89,180"], timeout=60)
@@ -212,13 +212,14 @@ class LutFiles(Case):
 
 class Interrupts(Case):
     def test_sigint_and_sigterm_leave_the_old_file_and_no_temporary(self):
+        killed = 0
         with tempfile.TemporaryDirectory() as d:
             for layout, name in [("rusinkiewicz", "t.exr"), ("merl", "t.binary")]:
                 target = os.path.join(d, name)
-                with open(target, "wb") as f:
-                    f.write(b"old")
                 rng = random.Random(11)
                 for signum in [signal.SIGINT, signal.SIGTERM, signal.SIGINT, signal.SIGTERM]:
+                    with open(target, "wb") as f:  # an earlier run may have finished and replaced it
+                        f.write(b"old")
                     extra = ["--resolution", "48,48,48"] if layout == "rusinkiewicz" else []
                     # Default dispositions in the child: under a background shell SIGINT arrives ignored,
                     # and brdf rightly keeps an ignored signal ignored.
@@ -231,11 +232,13 @@ class Interrupts(Case):
                     self.assertEqual(leftovers, [], f"{signum}: {err!r}")
                     if proc.returncode == 0:
                         continue  # finished before the signal
+                    killed += 1
                     self.assertEqual(proc.returncode, 128 + signum, err)
                     with open(target, "rb") as f:
                         content = f.read()
                     if b"already complete" not in err:
                         self.assertEqual(content, b"old", f"{layout} {signum}: final file changed")
+        self.assertGreaterEqual(killed, 3, "too few runs were interrupted to test anything")
 
     def test_failed_blender_export_leaves_no_file(self):
         with tempfile.TemporaryDirectory() as d:

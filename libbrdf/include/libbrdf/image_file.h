@@ -2,6 +2,7 @@
 // File writing shared by the LUT files and the exporters: atomic writes (a temporary beside the
 // target, then a rename, so an interrupted or failed write leaves no partial file) and float32
 // OpenEXR images with string attributes. OpenEXR itself stays in the sources.
+#include <cstddef>
 #include <functional>
 #include <map>
 #include <stdexcept>
@@ -38,6 +39,9 @@ class PublicationLock {
   PublicationLock& operator=(const PublicationLock&) = delete;
   // Deletes every registered temporary (unlink; the files may be half written).
   void remove_temporaries();
+  // Publications so far in this process (single renames and whole groups): with the lock held, a
+  // signal thread tells "nothing written" from "outputs already in place".
+  std::size_t publications() const;
 };
 
 // Files published as one unit. While a group is open on this thread, write_file_atomically writes
