@@ -345,7 +345,7 @@ PYBIND11_MODULE(libbrdf, m) {
   m.doc() = "libbrdf: MBK, Beckmann-Kirchhoff and microfacet BRDFs (Butler, Nauyoks & Marciniak 2015) on numpy arrays";
   m.attr("__version__") = libbrdf::kVersion;
 
-  // InvalidArgument -> libbrdf.InvalidArgument(ValueError) with .parameter (Python spelling).
+  // InvalidArgument -> libbrdf.InvalidArgument(ValueError) with .parameter (Python spelling), .index.
   // Handles, not objects: a static py::object would be released after the interpreter is gone
   // (the module attributes keep the types alive).
   static const py::handle invalid_argument =
@@ -359,6 +359,9 @@ PYBIND11_MODULE(libbrdf, m) {
       const std::string message = parameter + std::string(e.what()).substr(e.parameter().size());
       py::object instance = invalid_argument(message);
       instance.attr("parameter") = parameter;
+      // The bad query's flat index in the broadcast shape (None for parameters of the model).
+      const auto* query = dynamic_cast<const libbrdf::InvalidQuery*>(&e);
+      instance.attr("index") = query ? py::cast(query->index()) : py::none();
       PyErr_SetObject(invalid_argument.ptr(), instance.ptr());
     } catch (const libbrdf::LutFileError& e) {
       PyErr_SetString(lut_file_error.ptr(), e.what());

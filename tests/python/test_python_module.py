@@ -147,7 +147,11 @@ for label, kind, call, parameter in cases:
 
 # Every error message is one line that starts with the parameter.
 e = raises(V, lambda: m(10, [10, 10, nan], 0), "theta_s")
-check(e is not None and "\n" not in str(e) and "query 2" in str(e), f"the message names the query's index: {e}")
+check(e is not None and "\n" not in str(e) and "query 2" in str(e) and e.index == 2, f"the message and .index name the query: {e}")
+e = raises(V, lambda: m(np.zeros((2, 3)), np.array([[10, 10, 10], [10, nan, 10]]), 0), "theta_s")
+check(e is not None and e.index == 4, "a 2-D batch names the flat index of the bad query (4)")
+e = raises(V, lambda: libbrdf.Model("mbk", material="Au", sigma_s=-1.0, lc=2.0), "sigma_s")
+check(e is not None and e.index is None, "a bad model parameter has index None")
 # --- Ctrl-C cancels a bake: KeyboardInterrupt, promptly (the whole bake takes ~25 s) ----------
 import signal  # noqa: E402
 
