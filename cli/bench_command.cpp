@@ -9,6 +9,8 @@
 //   max/rms_rel_error  against the reference: the same model with tolerance 0 and
 //                  SeriesMethod::every_term (mbk for the mbk fast paths and mbk-polished/-rough),
 //                  over values >= floor = 1e-3 x the reference's largest value on the set.
+// Rows of kind fast_path include the ASF alone (series SIMD, kernel table, the landed scalar
+// strided series); kind lut3 times 3-channel lookups; kind bake the MERL-size bake (all threads).
 // Slice tables are checked on their own set (geometries of a sun + orthographic camera scene).
 // Writes DIR/bench.csv and DIR/bench.png (tools/plot_bench.py, run with /usr/bin/python3).
 #include <spawn.h>
@@ -30,6 +32,7 @@
 
 #include "commands.h"
 #include "libbrdf/error.h"
+#include "libbrdf/kernel_table.h"
 #include "libbrdf/lut.h"
 #include "libbrdf/materials.h"
 #include "libbrdf/models.h"
@@ -63,6 +66,7 @@ const libbrdf::Direction kSunDirection{0.3, 0.0, 1.0}, kCameraDirection{-0.5, 0.
 struct Row {
   std::string kind, model, surface, variant, layout, shape;
   double nodes = 0, evals_per_s = 0, speed_ratio = 0, max_rel_error = 0, rms_rel_error = 0, floor = 0;
+  double bytes = 0;  // tables: bytes of the per-material data (float32 nodes + side tables)
   int samples = 0;
 };
 
@@ -171,6 +175,19 @@ class Bench {
     add_model_row("fast_path", ModelKind::mbk, s, strided, "series strided (tol 0)");
     add_model_row("fast_path", ModelKind::mbk_polished, s, gold(s), "closed form eq. 14");
     add_model_row("fast_path", ModelKind::mbk_rough, s, gold(s), "closed form eq. 15");
+    ModelParameters table = gold(s);
+    table.tolerance = libbrdf::kKernelTableCertifiedError;
+    add_model_row("fast_path", ModelKind::mbk, s, table, "auto regime tol 1e-4 (kernel table)");
+    // The ASF alone (eq. 11, K = 1): the series, the kernel table, and the landed method.
+    ModelParameters asf_series = gold(s);
+    add_model_row("fast_path", ModelKind::asf, s, asf_series, "series SIMD tol 1e-6 (default)");
+    add_model_row("fast_path", ModelKind::asf, s, table, "kernel table tol 1e-4");
+    ModelParameters asf_landed = reference_parameters(s);
+    asf_landed.series.method = libbrdf::SeriesMethod::strided;
+    add_model_row("fast_path", ModelKind::asf, s, asf_landed, "series strided scalar (landed method, tol 0)");
+    ModelParameters asf_simd_exact = reference_parameters(s);
+    asf_simd_exact.series.method = libbrdf::SeriesMethod::simd;
+    add_model_row("fast_path", ModelKind::asf, s, asf_simd_exact, "series SIMD tol 0 (1e-14 truncation)");
     ModelParameters tis = gold(s);
     tis.k_mode = libbrdf::KMode::tis;
     add_model_row("fast_path", ModelKind::mbk, s, tis, "k-mode tis (vs plane)");
@@ -186,6 +203,39 @@ class Bench {
     add_lut_row(ModelKind::mbk, s, LutLayout::slice, {64, 32, 1});
     add_lut_row(ModelKind::mbk, s, LutLayout::slice, {256, 128, 1});
     if (!quick_) add_lut_row(ModelKind::mbk, s, LutLayout::slice, {1024, 512, 1});
+    add_lut_row(ModelKind::mbk, s, LutLayout::kernel, {32, 32, 32});
+    add_lut_row(ModelKind::mbk, s, LutLayout::kernel, libbrdf::default_resolution(LutLayout::kernel));
+    add_lut_row(ModelKind::bk_modified, s, LutLayout::kernel, libbrdf::default_resolution(LutLayout::kernel));
+    // Three-channel lookups (Lut::lookup_all: coordinates once, no acos/atan2 calls).
+    add_rgb_lookup_row(s, LutLayout::rusinkiewicz, std::array<int, 3>{n, n, n});
+    add_rgb_lookup_row(s, LutLayout::kernel, libbrdf::default_resolution(LutLayout::kernel));
+  }
+
+  // The MERL-size bake (90 x 90 x 180 x 3 wavelengths, mbk with K): nodes x channels per second.
+  void add_bake_row(const BenchSurface& s) {
+    libbrdf::BakeRequest request;
+    request.model = ModelKind::mbk;
+    for (double w : {0.65, 0.55, 0.45}) {
+      ModelParameters p = gold(s);
+      p.wavelength_um = w;
+      p.index = libbrdf::material_index("Au", w);
+      request.channels.push_back(p);
+    }
+    request.layout = LutLayout::merl;
+    request.resolution = libbrdf::kMerlShape;
+    request.error_samples = 2000;
+    const auto start = std::chrono::steady_clock::now();
+    const libbrdf::Lut lut = libbrdf::bake(request);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    char text[96];
+    std::snprintf(text, sizeof text, "MERL-size bake, all threads: %.2f s", seconds);
+    Row row{"bake", "mbk", s.name, text, "merl", libbrdf::shape_text(lut.shape, lut.layout)};
+    row.nodes = double(lut.nodes_per_channel());
+    row.evals_per_s = row.nodes * lut.channels() / seconds;
+    row.max_rel_error = lut.error.max_relative;
+    row.rms_rel_error = lut.error.rms_relative;
+    row.samples = lut.error.samples;
+    rows_.push_back(row);
   }
 
   const std::vector<Row>& rows() const { return rows_; }
@@ -240,9 +290,48 @@ class Bench {
     Row row{"lut", std::string(libbrdf::model_name(kind)), s.name, "table of the default model",
             std::string(libbrdf::layout_name(layout)), libbrdf::shape_text(lut.shape, lut.layout)};
     row.nodes = double(lut.nodes_per_channel());
+    row.bytes = table_bytes(lut);
     const Evaluator f = [&lut](const ScatterGeometry& g) { return lut.lookup(0, g); };
     fill_errors(row, values_on(q, f), ref.values);
     row.evals_per_s = evals_per_second(q, f, min_seconds_);
+    row.speed_ratio = row.evals_per_s / ref.evals_per_s;
+    rows_.push_back(row);
+  }
+
+  static double table_bytes(const libbrdf::Lut& lut) {
+    double bytes = double(lut.values.size()) * sizeof(float);
+    for (const auto& t : lut.specular_reflectance) bytes += double(t.size()) * sizeof(float);
+    for (const auto& t : lut.renormalization) bytes += double(t.size()) * sizeof(float);
+    return bytes;
+  }
+
+  // Lookups of all three channels of a 3-wavelength table (0.65, 0.55, 0.45 um) per second; the
+  // error columns are channel 1 (0.55 um) against the reference.
+  void add_rgb_lookup_row(const BenchSurface& s, LutLayout layout, const std::array<int, 3>& shape) {
+    Reference& ref = reference(ModelKind::mbk, s, false);
+    libbrdf::BakeRequest request;
+    request.model = ModelKind::mbk;
+    for (double w : {0.65, 0.55, 0.45}) {
+      ModelParameters p = gold(s);
+      p.wavelength_um = w;
+      p.index = libbrdf::material_index("Au", w);
+      request.channels.push_back(p);
+    }
+    request.layout = layout;
+    request.resolution = shape;
+    request.error_samples = 2000;
+    const libbrdf::Lut lut = libbrdf::bake(request);
+    Row row{"lut3", "mbk", s.name, "3-channel lookups (lookup_all)", std::string(libbrdf::layout_name(layout)),
+            libbrdf::shape_text(lut.shape, lut.layout)};
+    row.nodes = double(lut.nodes_per_channel());
+    row.bytes = table_bytes(lut);
+    const Evaluator green = [&lut](const ScatterGeometry& g) {
+      double v[3];
+      lut.lookup_all(g, v);
+      return v[1];
+    };
+    fill_errors(row, values_on(full_, green), ref.values);
+    row.evals_per_s = evals_per_second(full_, green, min_seconds_);
     row.speed_ratio = row.evals_per_s / ref.evals_per_s;
     rows_.push_back(row);
   }
@@ -258,12 +347,12 @@ void write_csv(const std::vector<Row>& rows, const std::string& path) {
   const std::string temporary = path + ".tmp";
   {
     std::ofstream out(temporary, std::ios::trunc);
-    out << "kind,model,surface,variant,layout,shape,nodes,evals_per_s,speed_ratio,max_rel_error,rms_rel_error,floor,samples\n";
+    out << "kind,model,surface,variant,layout,shape,nodes,evals_per_s,speed_ratio,max_rel_error,rms_rel_error,floor,samples,bytes\n";
     char buffer[512];
     for (const Row& r : rows) {
-      std::snprintf(buffer, sizeof buffer, "%s,%s,%s,%s,%s,%s,%.0f,%.4g,%.4g,%.3g,%.3g,%.3g,%d\n", r.kind.c_str(),
+      std::snprintf(buffer, sizeof buffer, "%s,%s,%s,%s,%s,%s,%.0f,%.4g,%.4g,%.3g,%.3g,%.3g,%d,%.0f\n", r.kind.c_str(),
                     r.model.c_str(), r.surface.c_str(), r.variant.c_str(), r.layout.c_str(), r.shape.c_str(), r.nodes,
-                    r.evals_per_s, r.speed_ratio, r.max_rel_error, r.rms_rel_error, r.floor, r.samples);
+                    r.evals_per_s, r.speed_ratio, r.max_rel_error, r.rms_rel_error, r.floor, r.samples, r.bytes);
       out << buffer;
     }
     out.close();
@@ -310,6 +399,7 @@ int run_bench(const BenchOptions& o) {
     std::cerr << "bench: " << s.name << " surface\n";
     bench.run_surface(s);
   }
+  bench.add_bake_row(kSurfaces[1]);
   const std::string csv = o.out + "/bench.csv", png = o.out + "/bench.png";
   write_csv(bench.rows(), csv);
   std::printf("%-9s %-13s %-12s %-38s %-13s %12s %9s %10s\n", "kind", "model", "surface", "variant", "table",

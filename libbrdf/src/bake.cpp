@@ -35,6 +35,10 @@ void validate_request(const BakeRequest& r) {
                                        " is not a BRDF and cannot be baked (one of mbk, mbk-polished, mbk-rough, "
                                        "mbk-fg, bk, bk-modified, microfacet)");
   if (r.channels.empty()) throw InvalidArgument("wavelength", "at least one channel (wavelength) is needed");
+  if (r.layout == LutLayout::kernel && !(r.model == ModelKind::mbk || r.model == ModelKind::mbk_fg ||
+                                         r.model == ModelKind::bk || r.model == ModelKind::bk_modified))
+    throw InvalidArgument("layout", "kernel factors the ASF models only (mbk, mbk-fg, bk, bk-modified), not " +
+                                        std::string(model_name(r.model)));
   if (r.channels.size() > 64) throw InvalidArgument("wavelength", "at most 64 channels (got " + std::to_string(r.channels.size()) + ")");
   if (r.resolution && r.target_error)
     throw InvalidArgument("target-error", "give either a resolution or a target error, not both");
@@ -95,6 +99,7 @@ void bake_nodes(const BakeRequest& r, const std::vector<Model>& models, Lut& lut
   const int channels = lut.channels();
   const std::size_t nodes = lut.nodes_per_channel();
   const bool slice = lut.layout == LutLayout::slice;
+  const bool kernel = lut.layout == LutLayout::kernel;
   const int row_length = slice ? lut.shape[1] : lut.shape[2];
   const int rows = static_cast<int>(nodes / row_length);
   const std::array<double, 3> span = detail::lut_axis_spans(lut.layout, lut.shape);
@@ -115,7 +120,7 @@ void bake_nodes(const BakeRequest& r, const std::vector<Model>& models, Lut& lut
         bool row_feasible = false;
         const ScatterAngles middle = slice ? detail::angles_at_index(lut.layout, lut.shape, i0, 0.5 * span[1], 0, lut.light, lut.view, &row_feasible)
                                            : detail::angles_at_index(lut.layout, lut.shape, i0, i1, 0.5 * span[2], lut.light, lut.view, &row_feasible);
-        if (row_feasible) {
+        if (row_feasible && !kernel) {
           const ScatterGeometry middle_geo = make_scatter_geometry(middle);
           for (int c = 0; c < channels; ++c) row_asf[c] = models[c].uses_asf() ? models[c].asf_at(middle_geo) : 0.0;
         }
@@ -124,7 +129,11 @@ void bake_nodes(const BakeRequest& r, const std::vector<Model>& models, Lut& lut
           const ScatterGeometry geo = make_scatter_geometry(angles);
           const std::size_t index = static_cast<std::size_t>(row) * row_length + k;
           for (int c = 0; c < channels; ++c) {
-            const double value = row_feasible && models[c].uses_asf() ? models[c].evaluate(geo, row_asf[c]) : models[c].evaluate(geo);
+            // kernel layout: the angular factor P = f(A = 1) / K(theta_i) (lut.h).
+            const double value = kernel ? models[c].evaluate(geo, 1.0) / (models[c].renormalization(angles.theta_i) *
+                                                                          fresnel_reflectance(lut.kernel_index[c].permittivity(), geo.cos_theta_d))
+                                 : row_feasible && models[c].uses_asf() ? models[c].evaluate(geo, row_asf[c])
+                                                                        : models[c].evaluate(geo);
             if (!(std::abs(value) <= double(FLT_MAX))) non_finite(angles, c, value);
             lut.values[c * nodes + index] = static_cast<float>(value);
           }
@@ -171,6 +180,13 @@ Lut bake_table(const BakeRequest& r, const std::vector<Model>& models, const std
   lut.shape = shape;
   if (lut.layout == LutLayout::slice) lut.shape[2] = 1;
   for (const ModelParameters& p : r.channels) lut.wavelengths_um.push_back(p.wavelength_um);
+  if (lut.layout == LutLayout::kernel) {
+    for (const Model& m : models) {
+      lut.kernel_sigma_over_lambda.push_back(m.surface().sigma_over_lambda());
+      lut.kernel_lc_over_lambda.push_back(m.surface().lc_over_lambda());
+      lut.kernel_index.push_back(*m.parameters().index);  // every ASF model needs n (validated)
+    }
+  }
   if (lut.layout == LutLayout::slice) {
     lut.light = r.light;
     lut.view = r.view;
@@ -292,6 +308,15 @@ LutError measure_lut_error(const Lut& lut, const std::vector<Model>& models, int
       const ScatterAngles a = detail::angles_at_index(lut.layout, lut.shape, i0, i1, i2, lut.light, lut.view, &feasible);
       if (!feasible || !inside(a)) continue;
       const std::size_t index = static_cast<std::size_t>(row) * row_length + k;
+      if (lut.layout == LutLayout::kernel) {  // the nodes hold the angular factor: the BRDF is rebuilt
+        const ScatterGeometry geo = make_scatter_geometry(a);
+        detail::TableAngles angles;
+        detail::table_angles(&geo, 1, &angles);
+        std::vector<double> brdf(channels);
+        detail::lookup_channels(lut, geo, angles, 0, channels, brdf.data());
+        for (double v : brdf) row_max[row] = std::max(row_max[row], static_cast<float>(v));
+        continue;
+      }
       for (int c = 0; c < channels; ++c) row_max[row] = std::max(row_max[row], lut.values[c * nodes + index]);
     }
   });

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "libbrdf/error.h"
+#include "lut_internal.h"
 
 namespace libbrdf {
 namespace {
@@ -80,7 +81,11 @@ void lookup_batch(const Lut& lut, int channel, const ScatterAngles* angles, std:
     throw InvalidArgument("channel", "must be in [0, " + std::to_string(lut.channels() - 1) + "] (got " + std::to_string(channel) + ")");
   validate_angles(angles, count);
   for_each_chunk(count, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t k = begin; k < end; ++k) values[k] = lut.lookup(channel, make_scatter_geometry(angles[k]));
+    std::vector<ScatterGeometry> geos(end - begin);
+    std::vector<detail::TableAngles> table(end - begin);
+    for (std::size_t k = begin; k < end; ++k) geos[k - begin] = make_scatter_geometry(angles[k]);
+    detail::table_angles(geos.data(), geos.size(), table.data());
+    for (std::size_t k = begin; k < end; ++k) detail::lookup_channels(lut, geos[k - begin], table[k - begin], channel, 1, values + k);
   });
 }
 

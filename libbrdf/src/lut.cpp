@@ -7,7 +7,9 @@
 #include <sstream>
 
 #include "libbrdf/error.h"
+#include "libbrdf/kernel_table.h"
 #include "lut_internal.h"
+#include "simd_math.h"
 
 namespace libbrdf {
 
@@ -16,14 +18,15 @@ std::string_view layout_name(LutLayout layout) {
     case LutLayout::rusinkiewicz: return "rusinkiewicz";
     case LutLayout::merl: return "merl";
     case LutLayout::slice: return "slice";
+    case LutLayout::kernel: return "kernel";
   }
   return "?";
 }
 
 LutLayout layout_from_name(std::string_view name) {
-  for (LutLayout layout : {LutLayout::rusinkiewicz, LutLayout::merl, LutLayout::slice})
+  for (LutLayout layout : {LutLayout::rusinkiewicz, LutLayout::merl, LutLayout::slice, LutLayout::kernel})
     if (layout_name(layout) == name) return layout;
-  throw InvalidArgument("layout", "must be one of rusinkiewicz|merl|slice (got '" + std::string(name) + "')");
+  throw InvalidArgument("layout", "must be one of rusinkiewicz|merl|slice|kernel (got '" + std::string(name) + "')");
 }
 
 std::array<int, 3> default_resolution(LutLayout layout) {
@@ -31,6 +34,7 @@ std::array<int, 3> default_resolution(LutLayout layout) {
     case LutLayout::rusinkiewicz: return {90, 90, 90};
     case LutLayout::merl: return kMerlShape;
     case LutLayout::slice: return {256, 128, 1};
+    case LutLayout::kernel: return {54, 54, 54};  // 1.9 MB for 3 channels (float32)
   }
   return {0, 0, 0};
 }
@@ -39,6 +43,7 @@ std::array<int, 3> target_error_start_resolution(LutLayout layout) {
   switch (layout) {
     case LutLayout::rusinkiewicz: return {16, 16, 16};
     case LutLayout::slice: return {16, 16, 1};
+    case LutLayout::kernel: return {12, 12, 12};
     case LutLayout::merl: break;
   }
   return kMerlShape;
@@ -109,7 +114,9 @@ ScatterAngles angles_at_index(LutLayout layout, const std::array<int, 3>& shape,
   const std::array<double, 3> span = lut_axis_spans(layout, shape);
   const double t0 = x0 / span[0];
   HalfDifferenceAngles hd;
-  hd.theta_h = 0.5 * kPi * t0 * t0;  // square map
+  // Square map, except for the kernel layout's smooth angular factor (uniform: the lobe's
+  // sharpness is in Sigma, not in the table).
+  hd.theta_h = layout == LutLayout::kernel ? 0.5 * kPi * t0 : 0.5 * kPi * t0 * t0;
   if (layout == LutLayout::slice) {
     hd.theta_d = slice_theta_d(light, view);
     hd.phi_d = kPi * x1 / span[1];
@@ -158,34 +165,135 @@ inline double linear_1d(const std::vector<float>& table, double theta_i) {
 
 }  // namespace
 
-double Lut::lookup(int channel, const ScatterGeometry& geo) const {
-  if (channel < 0 || channel >= channels())
-    throw InvalidArgument("channel", "must be in [0, " + std::to_string(channels() - 1) + "] (got " + std::to_string(channel) + ")");
-  const std::array<double, 3> span = detail::lut_axis_spans(layout, shape);
-  const float* v = values.data() + static_cast<std::size_t>(channel) * nodes_per_channel();
-  const HalfDifferenceAngles hd = half_difference_angles(geo);
-  if (layout == LutLayout::slice) {  // (theta_h, phi_d) at the slice's theta_d
+// Table coordinates without acos/atan2 calls. Every angle the tables need lies in [0, pi]:
+// angle(y, x) = atan2(y, x) for y >= 0 is written through one arctangent of a ratio in [-1, 1]
+// (ratio_of), and the arctangents of a whole batch come from one vector call (simd_math.h).
+namespace {
+
+struct PendingAngle {
+  double ratio;   // argument of the arctangent, in [-1, 1]
+  double offset;  // angle = offset + sign * atan(ratio)
+  double sign;
+};
+
+// atan2(y, x) for y >= 0 (angles in [0, pi]).
+inline PendingAngle ratio_of(double y, double x) {
+  if (x >= y) return {x > 0.0 ? y / x : 0.0, 0.0, 1.0};    // [0, pi/4]
+  if (-x >= y) return {y / -x, kPi, -1.0};                   // [3pi/4, pi]
+  return {x / y, 0.5 * kPi, -1.0};                           // (pi/4, 3pi/4)
+}
+
+// The four angles a lookup needs: theta_h, theta_d, phi_d (half/difference frame of
+// half_difference_angles, from the same dot products) and theta_i (for R_spec/K).
+inline void pending_angles(const ScatterGeometry& geo, PendingAngle* out) {
+  const double hx = geo.sin_theta_i + geo.sin_theta_s * geo.cos_phi_s;
+  const double hy = geo.sin_theta_s * geo.sin_phi_s;
+  const double hz = geo.cos_theta_i + geo.cos_theta_s;
+  const double h_xy = std::sqrt(hx * hx + hy * hy);
+  const double h_norm = std::sqrt(h_xy * h_xy + hz * hz);
+  const double cos_phi_h = h_xy > 0.0 ? hx / h_xy : 1.0, sin_phi_h = h_xy > 0.0 ? hy / h_xy : 0.0;
+  const double cos_theta_h = hz / h_norm, sin_theta_h = h_xy / h_norm;
+  const double tx = geo.sin_theta_i * cos_phi_h, ty = -geo.sin_theta_i * sin_phi_h;
+  const double dx = tx * cos_theta_h - geo.cos_theta_i * sin_theta_h;
+  const double dz = tx * sin_theta_h + geo.cos_theta_i * cos_theta_h;
+  out[0] = ratio_of(h_xy, hz);
+  out[1] = ratio_of(std::sqrt(dx * dx + ty * ty), dz);
+  out[2] = ratio_of(std::abs(ty), dx);  // phi_d folded by the mirror symmetry
+  out[3] = ratio_of(geo.sin_theta_i, geo.cos_theta_i);
+}
+
+inline double resolve(const PendingAngle& p, double atan_ratio) { return p.offset + p.sign * atan_ratio; }
+
+}  // namespace
+
+void detail::table_angles(const ScatterGeometry* geos, std::size_t count, TableAngles* out) {
+  constexpr std::size_t kChunk = 256;
+  PendingAngle pending[4 * kChunk];
+  double ratios[4 * kChunk];
+  for (std::size_t begin = 0; begin < count; begin += kChunk) {
+    const std::size_t n = std::min(kChunk, count - begin);
+    for (std::size_t k = 0; k < n; ++k) {
+      pending_angles(geos[begin + k], pending + 4 * k);
+      for (int a = 0; a < 4; ++a) ratios[4 * k + a] = pending[4 * k + a].ratio;
+    }
+    atan_array(ratios, ratios, 4 * n);
+    for (std::size_t k = 0; k < n; ++k) {
+      TableAngles& t = out[begin + k];
+      t.theta_h = resolve(pending[4 * k], ratios[4 * k]);
+      t.theta_d = resolve(pending[4 * k + 1], ratios[4 * k + 1]);
+      t.phi_d = resolve(pending[4 * k + 2], ratios[4 * k + 2]);
+      t.theta_i = resolve(pending[4 * k + 3], ratios[4 * k + 3]);
+    }
+  }
+}
+
+void detail::lookup_channels(const Lut& lut, const ScatterGeometry& geo, const TableAngles& angles, int first_channel,
+                             int channel_count, double* values) {
+  const std::array<double, 3> span = lut_axis_spans(lut.layout, lut.shape);
+  const std::size_t nodes = lut.nodes_per_channel();
+  if (lut.layout == LutLayout::slice) {  // (theta_h, phi_d) at the slice's theta_d
     int i0, i1;
     double t0, t1;
-    split_index(std::sqrt(hd.theta_h / (0.5 * kPi)) * span[0], shape[0], i0, t0);  // square map
-    split_index(hd.phi_d / kPi * span[1], shape[1], i1, t1);
-    const std::size_t n1 = shape[1];
-    const float* row0 = v + i0 * n1;
-    const float* row1 = row0 + n1;
-    return (1.0 - t0) * lerp(row0[i1], row0[i1 + 1], t1) + t0 * lerp(row1[i1], row1[i1 + 1], t1);
+    split_index(std::sqrt(angles.theta_h / (0.5 * kPi)) * span[0], lut.shape[0], i0, t0);  // square map
+    split_index(angles.phi_d / kPi * span[1], lut.shape[1], i1, t1);
+    const std::size_t n1 = lut.shape[1];
+    for (int c = 0; c < channel_count; ++c) {
+      const float* row0 = lut.values.data() + static_cast<std::size_t>(first_channel + c) * nodes + i0 * n1;
+      const float* row1 = row0 + n1;
+      values[c] = (1.0 - t0) * lerp(row0[i1], row0[i1 + 1], t1) + t0 * lerp(row1[i1], row1[i1 + 1], t1);
+    }
+    return;
   }
   int i0, i1, i2;
   double t0, t1, t2;
-  split_index(std::sqrt(hd.theta_h / (0.5 * kPi)) * span[0], shape[0], i0, t0);  // square map
-  split_index(hd.theta_d / (0.5 * kPi) * span[1], shape[1], i1, t1);
-  split_index(hd.phi_d / kPi * span[2], shape[2], i2, t2);
-  const std::size_t n2 = shape[2], n12 = static_cast<std::size_t>(shape[1]) * n2;
-  const float* c00 = v + i0 * n12 + i1 * n2 + i2;
-  const float* c01 = c00 + n2;
-  const float* c10 = c00 + n12;
-  const float* c11 = c10 + n2;
-  auto lerp2 = [t2](const float* c) { return lerp(c[0], c[1], t2); };
-  return (1.0 - t0) * ((1.0 - t1) * lerp2(c00) + t1 * lerp2(c01)) + t0 * ((1.0 - t1) * lerp2(c10) + t1 * lerp2(c11));
+  const double theta_h_fraction = angles.theta_h / (0.5 * kPi);
+  split_index((lut.layout == LutLayout::kernel ? theta_h_fraction : std::sqrt(theta_h_fraction)) * span[0], lut.shape[0], i0, t0);
+  split_index(angles.theta_d / (0.5 * kPi) * span[1], lut.shape[1], i1, t1);
+  split_index(angles.phi_d / kPi * span[2], lut.shape[2], i2, t2);
+  const std::size_t n2 = lut.shape[2], n12 = static_cast<std::size_t>(lut.shape[1]) * n2;
+  const std::size_t corner = i0 * n12 + i1 * n2 + i2;
+  // The factored form's parts that do not depend on the channel's table (kernel layout).
+  const bool kernel = lut.layout == LutLayout::kernel;
+  const double cos_sum = geo.cos_theta_i + geo.cos_theta_s;
+  for (int c = 0; c < channel_count; ++c) {
+    const int channel = first_channel + c;
+    const float* c00 = lut.values.data() + static_cast<std::size_t>(channel) * nodes + corner;
+    const float* c01 = c00 + n2;
+    const float* c10 = c00 + n12;
+    const float* c11 = c10 + n2;
+    auto lerp2 = [t2](const float* p) { return lerp(p[0], p[1], t2); };
+    const double table = (1.0 - t0) * ((1.0 - t1) * lerp2(c00) + t1 * lerp2(c01)) + t0 * ((1.0 - t1) * lerp2(c10) + t1 * lerp2(c11));
+    if (!kernel) {
+      values[c] = table;
+      continue;
+    }
+    // f = K(theta_i) P (pi l_c^2/lambda^2) Sigma(g, c) (lut.h, layout kernel), eqs 10-12.
+    const double s = lut.kernel_sigma_over_lambda[channel], l = lut.kernel_lc_over_lambda[channel];
+    const double k_wave = 2.0 * kPi * s * cos_sum;
+    AsfArguments args;
+    args.g = k_wave * k_wave;
+    args.prefactor = kPi * l * l;
+    args.c = kPi * args.prefactor * geo.eta_r2;
+    const double asf = asf_auto(args, kKernelTableCertifiedError);
+    const double fresnel = fresnel_reflectance(lut.kernel_index[channel].permittivity(), geo.cos_theta_d);
+    values[c] = linear_1d(lut.renormalization[channel], angles.theta_i) * fresnel * table * asf;
+  }
+}
+
+double Lut::lookup(int channel, const ScatterGeometry& geo) const {
+  if (channel < 0 || channel >= channels())
+    throw InvalidArgument("channel", "must be in [0, " + std::to_string(channels() - 1) + "] (got " + std::to_string(channel) + ")");
+  detail::TableAngles angles;
+  detail::table_angles(&geo, 1, &angles);
+  double value = 0.0;
+  detail::lookup_channels(*this, geo, angles, channel, 1, &value);
+  return value;
+}
+
+void Lut::lookup_all(const ScatterGeometry& geo, double* out) const {
+  detail::TableAngles angles;
+  detail::table_angles(&geo, 1, &angles);
+  detail::lookup_channels(*this, geo, angles, 0, channels(), out);
 }
 
 double Lut::specular_at(int channel, double theta_i) const {

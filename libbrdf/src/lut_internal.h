@@ -15,6 +15,16 @@ namespace libbrdf::detail {
 // upper end). Slice has span 1 on its unused third axis.
 std::array<double, 3> lut_axis_spans(LutLayout layout, const std::array<int, 3>& shape);
 
+// The angles a table lookup needs, for a batch of geometries, without acos/atan2 calls (lut.cpp):
+// theta_h, theta_d, phi_d of half_difference_angles() and theta_i.
+struct TableAngles {
+  double theta_h, theta_d, phi_d, theta_i;
+};
+void table_angles(const ScatterGeometry* geos, std::size_t count, TableAngles* out);
+// Interpolated values of channels [first, first + count) at one geometry with its TableAngles.
+void lookup_channels(const Lut& lut, const ScatterGeometry& geo, const TableAngles& angles, int first_channel,
+                     int channel_count, double* values);
+
 Direction normalized(const Direction& d);
 
 // Angles at a (possibly fractional) index position; `feasible` = both directions strictly above

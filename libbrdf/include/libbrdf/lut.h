@@ -34,6 +34,22 @@
 //                against 0.013 / 0.0039 / 0.0052 for 256 x 128 nodes in (theta_h, phi_d).)
 //                lookup() uses only (theta_h, phi_d) of the geometry: queries must have
 //                cos 2theta_d = L.V (brdf eval --lut checks it).
+//  kernel        The factored form of the ASF models (mbk, mbk-fg, bk, bk-modified), issue 9:
+//                  f = K(theta_i) x P(theta_h, theta_d, phi_d) x (pi l_c^2/lambda^2) x Sigma(g, c)
+//                K(theta_i) per channel in the side table; P = F(theta_d) P~ the angular
+//                factor (Qbar for mbk, F G/S for mbk-fg, F F_bk^2 for bk, F/S for bk-modified:
+//                the model with A = 1, divided by K), with the exact Fresnel F(theta_d) of the
+//                channel's n + i kappa (libbrdf:kernel_index) evaluated at lookup and P~ = P/F,
+//                smooth and ~1 near specular, on a node grid over (theta_h uniform, theta_d,
+//                phi_d) (default 54^3: 1.9 MB for 3 channels, trilinear); Sigma(g, c) from the universal kernel table
+//                (kernel_table.h, not stored: any reader regenerates it, and it is the same for
+//                every material), g = (2 pi sigma_s/lambda)^2 (N.L + N.V)^2 and
+//                c = pi^2 (l_c/lambda)^2 eta_r^2 from the per-channel sigma_s/lambda and
+//                l_c/lambda (Lut::kernel_sigma_over_lambda, kernel_lc_over_lambda; file header
+//                attributes libbrdf:kernel_sigma_over_lambda and libbrdf:kernel_lc_over_lambda).
+//                Sigma outside the kernel table's domain: closed forms or the series at the
+//                table's certified error. All the sharpness of the lobe is in Sigma, so a small
+//                P table holds polished surfaces as well as rough ones.
 // Nodes whose incident or scattered direction lies on or below the horizon (theta >= 90 deg, e.g.
 // theta_d = 90 deg, or theta_h + theta_d > 90 deg in the incidence plane) hold the model at those
 // directions with the polar angles limited to kHorizonThetaLimitDeg (azimuths unchanged); for the
@@ -61,7 +77,7 @@
 
 namespace libbrdf {
 
-enum class LutLayout { rusinkiewicz, merl, slice };
+enum class LutLayout { rusinkiewicz, merl, slice, kernel };
 std::string_view layout_name(LutLayout layout);
 LutLayout layout_from_name(std::string_view name);  // throws InvalidArgument("layout", ...)
 // "N0xN1xN2" ("N0xN1" for the 2D slice layout), for messages and reports.
@@ -116,6 +132,8 @@ class Lut {
   std::vector<std::vector<float>> specular_reflectance;  // [channel][theta_i node], dimensionless
   std::vector<std::vector<float>> renormalization;       // [channel][theta_i node], K
   Direction light, view;                    // slice layout only (world space, towards light/camera)
+  std::vector<double> kernel_sigma_over_lambda, kernel_lc_over_lambda;  // kernel layout only, per channel
+  std::vector<ComplexIndex> kernel_index;   // kernel layout only: n + i kappa per channel (F(theta_d))
   LutError error;                           // measured at bake time, stored in the file
   std::map<std::string, std::string> attributes;  // model name, parameters, version, ... (file metadata)
 
@@ -126,6 +144,9 @@ class Lut {
   // Interpolated BRDF value (1/sr) of one channel at one geometry. For the slice layout only
   // (theta_h, phi_d) are used (see above).
   double lookup(int channel, const ScatterGeometry& geo) const;
+  // All channels at one geometry (values[c], c < channels()): the table coordinates are computed
+  // once, from dot products and a polynomial arctangent, no acos/atan2 calls (see lut.cpp).
+  void lookup_all(const ScatterGeometry& geo, double* values) const;
   // Interpolated R_spec and K of one channel at theta_i (radians).
   double specular_at(int channel, double theta_i) const;
   double renormalization_at(int channel, double theta_i) const;
