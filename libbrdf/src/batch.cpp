@@ -76,6 +76,18 @@ void evaluate_directions_batch(const Model& model, const double* to_light, const
   evaluate_batch(model, angles.data(), count, values);
 }
 
+void lookup_all_batch(const Lut& lut, const ScatterGeometry* geometries, std::size_t count, double* values) {
+  constexpr std::size_t kAnglesChunk = 256;
+  detail::TableAngles angles[kAnglesChunk];
+  const int channels = lut.channels();
+  for (std::size_t begin = 0; begin < count; begin += kAnglesChunk) {
+    const std::size_t n = std::min(kAnglesChunk, count - begin);
+    detail::table_angles(geometries + begin, n, angles);
+    for (std::size_t k = 0; k < n; ++k)
+      detail::lookup_channels(lut, geometries[begin + k], angles[k], 0, channels, values + (begin + k) * channels);
+  }
+}
+
 void lookup_batch(const Lut& lut, int channel, const ScatterAngles* angles, std::size_t count, double* values) {
   if (channel < 0 || channel >= lut.channels())
     throw InvalidArgument("channel", "must be in [0, " + std::to_string(lut.channels() - 1) + "] (got " + std::to_string(channel) + ")");

@@ -178,7 +178,8 @@ double Model::asf_at(const ScatterGeometry& geo) const {
 }
 
 double Model::evaluate_impl(const ScatterGeometry& geo, const double* asf_given) const {
-  const double theta_i = std::atan2(geo.sin_theta_i, geo.cos_theta_i);
+  // theta_i only for the quantities tabulated over it (K, R_spec): an atan2 the others skip.
+  auto theta_i = [&] { return std::atan2(geo.sin_theta_i, geo.cos_theta_i); };
   auto fresnel_d = [&] { return fresnel_reflectance(permittivity_, geo.cos_theta_d); };
   auto asf_value = [&] { return asf_given ? *asf_given : asf_at(geo); };
   switch (kind_) {
@@ -193,26 +194,26 @@ double Model::evaluate_impl(const ScatterGeometry& geo, const double* asf_given)
     case ModelKind::g: return roughness_g(surface_.sigma_over_lambda(), geo.cos_theta_i, geo.cos_theta_s);
     case ModelKind::eta_r2: return geo.eta_r2;
     case ModelKind::asf: return asf_at(geo);  // K = 1; method by the tolerance (asf_auto)
-    case ModelKind::k: return renormalization_direct(surface_, theta_i, params_.k_mode).k;
-    case ModelKind::r_spec: return specular_reflectance(theta_i);
+    case ModelKind::k: return renormalization_direct(surface_, theta_i(), params_.k_mode).k;
+    case ModelKind::r_spec: return specular_reflectance(theta_i());
     case ModelKind::mbk:  // K Qbar A, eq. 11 x Q (conventions.md: Qbar)
-      return renormalization(theta_i) * stover_q(permittivity_, geo).q_bar() * asf_value();
+      return renormalization(theta_i()) * stover_q(permittivity_, geo).q_bar() * asf_value();
     case ModelKind::mbk_polished: {  // eq. 14 with Qbar: K = 1, e^-g = 1, m = 1
       const AsfArguments a = asf_arguments(surface_, geo);
       return stover_q(permittivity_, geo).q_bar() * a.prefactor * mbk_series_polished(a.g, a.c);
     }
     case ModelKind::mbk_rough: {  // eq. 15 with Qbar and K
       const AsfArguments a = asf_arguments(surface_, geo);
-      return renormalization(theta_i) * stover_q(permittivity_, geo).q_bar() * a.prefactor * mbk_series_rough(a.g, a.c);
+      return renormalization(theta_i()) * stover_q(permittivity_, geo).q_bar() * a.prefactor * mbk_series_rough(a.g, a.c);
     }
     case ModelKind::mbk_fg:  // eq. 31's form: K F(td) G / S * A
-      return renormalization(theta_i) * fresnel_d() * geometric_term(params_.g_term, geo, sigma_g_) / s_term(geo) * asf_value();
+      return renormalization(theta_i()) * fresnel_d() * geometric_term(params_.g_term, geo, sigma_g_) / s_term(geo) * asf_value();
     case ModelKind::bk:  // F(td) F_bk^2 A, eq. 26
       return fresnel_d() * bk_geometric_factor_eq26(geo) * asf_value();
     case ModelKind::bk_modified:  // F(td) (1/S) A, eq. 28
       return fresnel_d() * inverse_s_term_eq28(geo) * asf_value();
     case ModelKind::microfacet: {  // eq. 2 surface term + Lambertian
-      const double rho_s = params_.rho_s ? *params_.rho_s : renormalization(theta_i);  // rho_s = K
+      const double rho_s = params_.rho_s ? *params_.rho_s : renormalization(theta_i());  // rho_s = K
       double specular = 0.0;
       if (sigma_g_ > 0.0) {
         specular = rho_s * fresnel_d() * gaussian_facet_distribution(geo.cos_theta_h, sigma_g_) *

@@ -45,6 +45,11 @@ void evaluate_batch(const Model& model, const ScatterAngles* angles, std::size_t
 void evaluate_directions_batch(const Model& model, const double* to_light, const double* to_view, std::size_t count,
                                double* values);
 
+// Every channel of a table at already-derived geometries: values[k * lut.channels() + c]. The
+// table coordinates of a chunk come from one vector arctangent call (no acos/atan2 per query).
+// Runs on the calling thread only (callers split larger work themselves, e.g. in chunks).
+void lookup_all_batch(const Lut& lut, const ScatterGeometry* geometries, std::size_t count, double* values);
+
 // Table lookups: values[k] = lut.lookup(channel, geometry of angles[k]). Same validation.
 void lookup_batch(const Lut& lut, int channel, const ScatterAngles* angles, std::size_t count, double* values);
 
