@@ -64,7 +64,7 @@ HWY_INLINE V LogTerm(D d, V m, V g, V ln_g, V c) {
   return hn::Sub(hn::Sub(log_weight, ln_m), hn::Mul(c, inv));
 }
 
-double SumSeriesBlocks(const SeriesPlan& plan, SeriesBlockStats* stats) {
+double SumSeriesBlocks(const SeriesPlan& plan, SeriesBlockStats* stats, SeriesMomentSums* moments) {
   const hn::ScalableTag<double> d;
   using V = hn::Vec<decltype(d)>;
   const std::size_t n = hn::Lanes(d);
@@ -86,11 +86,26 @@ double SumSeriesBlocks(const SeriesPlan& plan, SeriesBlockStats* stats) {
     const V log_terms = LogTerm(d, hn::Max(m_raw, one), g, ln_g, c);
     const double block_max = hn::GetLane(hn::MaxOfLanes(d, hn::IfThenElse(valid, log_terms, hn::Set(d, -HUGE_VAL))));
     if (block_max > reference) {
-      sum = sum > 0.0 ? sum * std::exp(reference - block_max) : 0.0;
+      const double rescale = sum > 0.0 ? std::exp(reference - block_max) : 0.0;
+      sum *= rescale;
+      if (moments) {
+        moments->b *= rescale;
+        moments->c *= rescale;
+        moments->d *= rescale;
+        moments->e *= rescale;
+      }
       reference = block_max;
     }
     const V terms = hn::IfThenElseZero(valid, hn::Exp(d, hn::Sub(log_terms, hn::Set(d, reference))));
     sum += hn::GetLane(hn::SumOfLanes(d, terms));
+    if (moments) {  // sums of t_m (m - g), t_m / m, t_m (m - g) / m, t_m / m^2 (poisson.h)
+      const V m = hn::Max(m_raw, one);
+      const V shifted = hn::Mul(terms, hn::Sub(m, g)), inv = hn::Div(one, m);
+      moments->b += hn::GetLane(hn::SumOfLanes(d, shifted));
+      moments->c += hn::GetLane(hn::SumOfLanes(d, hn::Mul(terms, inv)));
+      moments->d += hn::GetLane(hn::SumOfLanes(d, hn::Mul(shifted, inv)));
+      moments->e += hn::GetLane(hn::SumOfLanes(d, hn::Mul(hn::Mul(terms, inv), inv)));
+    }
     ++blocks;
     hn::Store(terms, d, t);
     *last = t[n - 1];
@@ -119,6 +134,10 @@ double SumSeriesBlocks(const SeriesPlan& plan, SeriesBlockStats* stats) {
     }
   }
   if (stats) stats->blocks = blocks;
+  if (moments) {
+    moments->log_scale = reference + std::log(stride);
+    moments->a = sum;
+  }
   if (!(sum > 0.0)) return 0.0;
   const double log_value = reference + std::log(sum * stride);
   return log_value < -745.0 ? 0.0 : std::exp(log_value);
@@ -135,8 +154,8 @@ HWY_AFTER_NAMESPACE();
 namespace libbrdf::detail {
 HWY_EXPORT(SumSeriesBlocks);
 
-double sum_series_blocks(const SeriesPlan& plan, SeriesBlockStats* stats) {
-  return HWY_DYNAMIC_DISPATCH(SumSeriesBlocks)(plan, stats);
+double sum_series_blocks(const SeriesPlan& plan, SeriesBlockStats* stats, SeriesMomentSums* moments) {
+  return HWY_DYNAMIC_DISPATCH(SumSeriesBlocks)(plan, stats, moments);
 }
 
 HWY_EXPORT(SeriesLanes);

@@ -16,8 +16,14 @@ struct SeriesBlockStats {
   long long blocks = 0;  // SIMD blocks evaluated (each series_lanes() terms)
 };
 
-// Sigma(g, c) of eq. 11 (mbk_series.h) by SIMD blocks; 0 when every term underflows.
-double sum_series_blocks(const SeriesPlan& plan, SeriesBlockStats* stats = nullptr);
+// Moments of the terms (poisson.h's SeriesMoments): sums relative to exp(log_scale).
+struct SeriesMomentSums {
+  double log_scale = 0.0, a = 0.0, b = 0.0, c = 0.0, d = 0.0, e = 0.0;
+};
+
+// Sigma(g, c) of eq. 11 (mbk_series.h) by SIMD blocks; 0 when every term underflows. With
+// `moments`, also the sums a..e of series_moments (for the kernel table's derivatives).
+double sum_series_blocks(const SeriesPlan& plan, SeriesBlockStats* stats = nullptr, SeriesMomentSums* moments = nullptr);
 // Doubles per vector of the dispatched target (2 SSE, 4 AVX2, 8 AVX-512) and its name.
 std::size_t series_lanes();
 const char* series_target_name();
