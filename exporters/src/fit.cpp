@@ -599,12 +599,14 @@ NativeFit fit_native_lobes(const std::vector<Model>& models, const FitRequest& r
         lobes = grown;
     }
     NativeFit trial = fit;
-    trial.lobes = refine(request.shape, request.signed_colours, lobes, train, 50 + 30 * J);
+    trial.lobes = refine(request.shape, request.signed_colours, lobes, train, 40 + 25 * J);
     trial.quality = measure(trial, check);
     previous = trial.lobes;
     fit.tried.push_back(trial.quality);
+    const bool stalled = !best.lobes.empty() && J >= 3 && trial.quality.p95 > 0.97 * best.quality.p95;
     if (best.lobes.empty() || trial.quality.p95 < best.quality.p95) best = trial;
     if (trial.quality.p95 <= request.target_error) break;
+    if (stalled) break;  // one more lobe gained < 3%: more will not meet the target either
   }
   best.tried = fit.tried;
   best.target_met = best.quality.p95 <= request.target_error;

@@ -8,9 +8,11 @@
 // term m weighing e^-g g^m / (m! m) with width ~ sqrt(m) lambda / (pi l_c); groups of terms are
 // natural lobes of different widths (a polished surface: one narrow halo; intermediate: a sum of
 // narrow and broad; rough: one broad lobe). The fit starts each lobe at the width of one group of
-// terms (equal Poisson mass per group, at theta_i = theta_s = 30 deg) and then refines all
-// roughnesses together (Nelder-Mead on log roughness) with the colours solved exactly for each
-// trial (non-negative least squares).
+// terms (equal Poisson mass per group, at theta_i = theta_s = 30 deg), or from the optimum with one
+// lobe fewer plus one lobe when that starts lower, and then refines all roughnesses together
+// (Nelder-Mead on log roughness) with the colours solved exactly for each trial (non-negative
+// least squares, or plain least squares for signed colours). Narrow lobes get a second, finer block
+// of fitting pixels around the half vector, and a validation grid fine enough to resolve them.
 //
 // Colour follows the angle: each lobe's colour per channel is a non-negative combination of the
 // Bernstein polynomials of degree kColourDegree in mu_v = N.V (the renderer knows N.V at the
