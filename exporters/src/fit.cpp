@@ -581,6 +581,7 @@ NativeFit fit_native_lobes(const std::vector<Model>& models, const FitRequest& r
   const Model& reference = models[models.size() / 2];
   NativeFit best;
   std::vector<Lobe> previous;
+  int stalls = 0;
   for (int J = 1; J <= request.max_lobes; ++J) {
     // Start: the Poisson groups' widths (fit.h), or, when better, the previous count's optimum
     // plus one lobe (narrower or wider than its extremes, alternately).
@@ -603,10 +604,10 @@ NativeFit fit_native_lobes(const std::vector<Model>& models, const FitRequest& r
     trial.quality = measure(trial, check);
     previous = trial.lobes;
     fit.tried.push_back(trial.quality);
-    const bool stalled = !best.lobes.empty() && J >= 3 && trial.quality.p95 > 0.97 * best.quality.p95;
+    stalls = !best.lobes.empty() && trial.quality.p95 > 0.97 * best.quality.p95 ? stalls + 1 : 0;
     if (best.lobes.empty() || trial.quality.p95 < best.quality.p95) best = trial;
     if (trial.quality.p95 <= request.target_error) break;
-    if (stalled) break;  // one more lobe gained < 3%: more will not meet the target either
+    if (stalls >= 2) break;  // two more lobes gained < 3% each: more will not meet the target either
   }
   best.tried = fit.tried;
   best.target_met = best.quality.p95 <= request.target_error;
