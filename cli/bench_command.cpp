@@ -185,7 +185,7 @@ class Bench {
     add_model_row("fast_path", ModelKind::asf, s, table, "kernel table tol 1e-4");
     ModelParameters asf_landed = reference_parameters(s);
     asf_landed.series.method = libbrdf::SeriesMethod::strided;
-    add_model_row("fast_path", ModelKind::asf, s, asf_landed, "series strided scalar (landed method, tol 0)");
+    add_model_row("fast_path", ModelKind::asf, s, asf_landed, "series strided scalar (landed method; tol 0)");
     ModelParameters asf_simd_exact = reference_parameters(s);
     asf_simd_exact.series.method = libbrdf::SeriesMethod::simd;
     add_model_row("fast_path", ModelKind::asf, s, asf_simd_exact, "series SIMD tol 0 (1e-14 truncation)");
@@ -229,7 +229,7 @@ class Bench {
     const libbrdf::Lut lut = libbrdf::bake(request);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     char text[96];
-    std::snprintf(text, sizeof text, "MERL-size bake, all threads: %.2f s", seconds);
+    std::snprintf(text, sizeof text, "MERL-size bake on all threads: %.2f s", seconds);
     Row row{"bake", "mbk", s.name, text, "merl", libbrdf::shape_text(lut.shape, lut.layout)};
     row.nodes = double(lut.nodes_per_channel());
     row.evals_per_s = row.nodes * lut.channels() / seconds;

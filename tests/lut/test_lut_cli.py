@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """`brdf bake`, `brdf eval --lut` and `brdf bench` from the outside (env BRDF_EXE = brdf).
 
-  brdf bake --model NAME [surface] [--wavelength a,b,c] --layout rusinkiewicz|merl|slice
+  brdf bake --model NAME [surface] [--wavelength a,b,c] --layout rusinkiewicz|merl|slice|kernel
             [--resolution A,B,C | --target-error REL] [--light-dir --view-dir] [--scene S] -o OUT
   brdf eval --lut FILE [--channel I] (--at ... | --queries ...)
 
@@ -111,6 +111,29 @@ class Bake(unittest.TestCase):
         self.assertGreater(keep.sum(), 100)
         worst = np.max(np.abs(table[keep] - model[keep]) / model[keep])
         self.assertLessEqual(worst, 1.25 * claimed, "claimed %g" % claimed)
+
+    def test_kernel_layout_is_small_and_accurate_from_polished_to_rough(self):
+        """--layout kernel (issue 9): K F P~ Sigma with the universal Sigma(g, c) table. Checked from
+        outside at independent random points (theta <= 85 deg, values >= 1e-3 of the largest) for
+        the renderer issue's surfaces, n = 1.5 + 1i: the table agrees with `eval --model` to 2e-3
+        (measured 0.6e-3 to 1.6e-3 by the bake) and its nodes take <= 2 MB for 3 channels."""
+        for sigma, lc in [("0.02", "2"), ("0.2", "2"), ("1.0", "5")]:
+            surface = ["--model", "mbk", "--n", "1.5", "--k", "1", "--sigma-s", sigma, "--lc", lc]
+            out_path = self.path("kernel_%s.exr" % sigma)
+            rc, out, err = run(["bake"] + surface + ["--layout", "kernel", "-o", out_path])
+            self.assertEqual(rc, 0, err)
+            claimed, _ = claimed_error(out)
+            self.assertLess(claimed, 2e-3, out)
+            spec = oiio.ImageInput.open(out_path).spec()
+            self.assertLessEqual(spec.width * spec.height * spec.nchannels * 4, 2_000_000)
+            angles = random_angles(600, 85.0, 7)
+            for channel, wavelength in enumerate(WAVELENGTHS):
+                model = eval_model(angles, wavelength, surface)
+                table = eval_lut(out_path, angles, channel)
+                keep = model >= 1e-3 * model.max()
+                self.assertGreater(keep.sum(), 100)
+                worst = np.max(np.abs(table[keep] - model[keep]) / model[keep])
+                self.assertLess(worst, 2e-3, "sigma_s %s channel %d" % (sigma, channel))
 
     def test_exr_layout_as_documented(self):
         out_path = self.path("layout.exr")
