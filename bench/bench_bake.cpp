@@ -4,7 +4,9 @@
 //                     tables (each iteration bakes a surface 1e-12 apart, so K is never cached),
 //                     wall seconds on this machine (all cores; oneTBB), and the CPU seconds of
 //                     all threads (cpu_s_all_threads; wall ~ that / cores on an idle machine).
+//                     /0 with the SIMD series for the rows' ASF, /1 with the landed scalar strided series.
 //   bake/merl_cached  the same bake with the K tables already cached (the node evaluations alone).
+//   bake/kernel_cold  the kernel layout (54^3 angular factor x 3 wavelengths, K tables built).
 //   ktable/<lambda>   one RenormalizationTable (91 nodes of eq. 13 by quadrature), per wavelength.
 //   lookup/...        single-threaded Lut::lookup of a 90^3 rusinkiewicz table and the MERL table,
 //   model/...         Model::evaluate (default settings, and the reference: tolerance 0 and
@@ -45,11 +47,14 @@ double cpu_seconds() {
   return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
 }
 
-BakeRequest merl_request(double sigma_s_um) {
+BakeRequest merl_request(double sigma_s_um, SeriesMethod method = SeriesMethod::simd) {
   BakeRequest r;
   r.model = ModelKind::mbk;
   r.layout = LutLayout::merl;
-  for (double w : {0.65, 0.55, 0.45}) r.channels.push_back(gold(w, sigma_s_um));
+  for (double w : {0.65, 0.55, 0.45}) {
+    r.channels.push_back(gold(w, sigma_s_um));
+    r.channels.back().series.method = method;
+  }
   r.error_samples = 20000;
   return r;
 }
@@ -58,9 +63,12 @@ void BM_BakeMerlCold(benchmark::State& state) {
   int iteration = 0;
   double error = 0.0;
   const double cpu_start = cpu_seconds();
+  // range(0): 0 = the SIMD series (default), 1 = the landed scalar strided series for the ASF rows
+  // (the K tables' integrals use the SIMD series in both).
+  const SeriesMethod method = state.range(0) == 0 ? SeriesMethod::simd : SeriesMethod::strided;
   for (auto _ : state) {
     // A new sigma_s each time: the K tables are built inside the timed bake.
-    const Lut lut = bake(merl_request(0.1 * (1.0 + 1e-12 * ++iteration)));
+    const Lut lut = bake(merl_request(0.1 * (1.0 + 1e-12 * ++iteration), method));
     error = lut.error.max_relative;
     benchmark::DoNotOptimize(lut.values.data());
   }
@@ -68,7 +76,22 @@ void BM_BakeMerlCold(benchmark::State& state) {
   state.counters["lut_max_rel_err"] = error;
   state.counters["cpu_s_all_threads"] = (cpu_seconds() - cpu_start) / double(state.iterations());
 }
-BENCHMARK(BM_BakeMerlCold)->Name("bake/merl_cold")->Unit(benchmark::kSecond)->UseRealTime()->Iterations(3);
+BENCHMARK(BM_BakeMerlCold)->Name("bake/merl_cold")->Arg(0)->Arg(1)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(3);
+
+// The kernel layout (54^3 x 3 channels of the angular factor, K tables built inside).
+void BM_BakeKernelCold(benchmark::State& state) {
+  int iteration = 0;
+  double error = 0.0;
+  for (auto _ : state) {
+    BakeRequest r = merl_request(0.1 * (1.0 + 1e-12 * ++iteration));
+    r.layout = LutLayout::kernel;
+    const Lut lut = bake(r);
+    error = lut.error.max_relative;
+    benchmark::DoNotOptimize(lut.values.data());
+  }
+  state.counters["lut_max_rel_err"] = error;
+}
+BENCHMARK(BM_BakeKernelCold)->Name("bake/kernel_cold")->Unit(benchmark::kSecond)->UseRealTime()->Iterations(3);
 
 void BM_BakeMerlCached(benchmark::State& state) {
   const BakeRequest request = merl_request(0.1);
