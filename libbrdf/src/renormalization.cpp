@@ -109,31 +109,52 @@ double outside_integral(const Surface& surface, double theta_i, const Renormaliz
     for (std::int64_t m = (direction > 0 ? mode : mode - stride); m >= 1; m += direction * stride) {
       const double weight = std::exp(detail::log_poisson_weight(m, g1)) * static_cast<double>(stride);
       sum += weight * outside_fraction(static_cast<double>(m));
-      if (weight < 1e-17 * total_weight && (direction < 0 || static_cast<double>(m) > g1)) break;
+      // "Not above" rather than "below": for g1 ~ 1e-310 the threshold underflows to 0, and so do
+      // the weights past m = 1; "below 0" never came (sigma_s = 1e-160 um hung here).
+      if (!(weight > 1e-17 * total_weight) && (direction < 0 || static_cast<double>(m) > g1)) break;
     }
   }
   return sum;
 }
 
+// The surface K is computed for. Below sigma_s/lambda = kLinearSigmaOverLambda (g < 2e-38) the
+// disk and outside integrals are linear in g to double precision (the m = 1 term; the mass of
+// term m is O(g^(m-1)) smaller) and K, their ratio, no longer depends on sigma_s. It is computed
+// at that sigma_s: at the true one the whole quadrature ran in denormal numbers (27x slower; a K
+// table at sigma_s = 1e-160 um took minutes).
+constexpr double kLinearSigmaOverLambda = 1e-20;
+Surface k_surface(const Surface& surface) {
+  Surface s = surface;
+  if (s.sigma_s_um > 0.0 && s.sigma_s_um < kLinearSigmaOverLambda * s.wavelength_um)
+    s.sigma_s_um = kLinearSigmaOverLambda * s.wavelength_um;
+  return s;
+}
+
 }  // namespace
 
-RenormalizationParts renormalization_direct(const Surface& surface, double theta_i, KMode mode,
+RenormalizationParts renormalization_direct(const Surface& true_surface, double theta_i, KMode mode,
                                             const RenormalizationQuadrature& quadrature) {
-  validate_surface(surface);
+  validate_surface(true_surface);
   if (!std::isfinite(theta_i) || theta_i < 0.0 || theta_i > 0.5 * kPi)
     throw InvalidArgument("theta_i", "must be in [0, 90] degrees for K");
   RenormalizationParts parts;
   const double ci = std::cos(theta_i);
-  parts.total_scatter = -std::expm1(-roughness_g(surface.sigma_over_lambda(), ci, ci));
-  if (surface.sigma_s_um == 0.0) return parts;  // no scatter: K = 1 by convention
+  parts.total_scatter = -std::expm1(-roughness_g(true_surface.sigma_over_lambda(), ci, ci));
+  if (true_surface.sigma_s_um == 0.0) return parts;  // no scatter: K = 1 by convention
+  const Surface surface = k_surface(true_surface);
+  // disk and outside scale like g ~ sigma_s^2 where k_surface changed sigma_s.
+  const double ratio = true_surface.sigma_s_um / surface.sigma_s_um, scale = ratio * ratio;
   parts.disk = disk_integral(surface, theta_i, quadrature);
   if (!(parts.disk > 0.0)) return parts;  // nothing scattered into the disk at all: K = 1
   if (mode == KMode::plane) {
-    parts.outside = outside_integral(surface, theta_i, quadrature);
-    parts.k = 1.0 + parts.outside / parts.disk;  // eq. 13 with the plane read of conventions.md
+    const double outside = outside_integral(surface, theta_i, quadrature);
+    parts.k = 1.0 + outside / parts.disk;  // eq. 13 with the plane read of conventions.md
+    parts.outside = outside * scale;
   } else {
-    parts.k = parts.total_scatter / parts.disk;  // TIS renormalization (Krywonos et al. 2011)
+    // TIS renormalization (Krywonos et al. 2011), both parts at the surface of the quadrature.
+    parts.k = -std::expm1(-roughness_g(surface.sigma_over_lambda(), ci, ci)) / parts.disk;
   }
+  parts.disk *= scale;
   return parts;
 }
 
@@ -186,9 +207,10 @@ int RenormalizationTable::automatic_node_count(const Surface& surface) {
 //   ln D(ti)                             the disk integral (a smooth, positive function)
 //   r(ti) = outside / (1 - e^-g1)        the fraction of the constant-g1 lobe outside the disk
 //   plane: K = 1 + (1 - e^-g1) r / D;    tis: K = (1 - e^-g(ti,ti)) / D
-RenormalizationTable::RenormalizationTable(const Surface& surface, KMode mode, int requested_nodes)
-    : mode_(mode), surface_(surface) {
-  validate_surface(surface);
+RenormalizationTable::RenormalizationTable(const Surface& true_surface, KMode mode, int requested_nodes)
+    : mode_(mode), surface_(k_surface(true_surface)) {
+  validate_surface(true_surface);
+  const Surface& surface = surface_;  // K of a sigma_s below kLinearSigmaOverLambda is K there
   if (requested_nodes != 0 && requested_nodes < 8)
     throw InvalidArgument("nodes", "K table needs at least 8 nodes (or 0 = automatic)");
   const int nodes = requested_nodes == 0 ? automatic_node_count(surface) : requested_nodes;
@@ -242,7 +264,7 @@ std::shared_ptr<const RenormalizationTable> cached_renormalization_table(const S
   using Key = std::tuple<double, double, int>;
   static std::mutex mutex;
   static std::map<Key, std::shared_ptr<const RenormalizationTable>> cache;
-  const Key key{surface.sigma_over_lambda(), surface.lc_over_lambda(), static_cast<int>(mode)};
+  const Key key{k_surface(surface).sigma_over_lambda(), surface.lc_over_lambda(), static_cast<int>(mode)};
   {
     std::lock_guard<std::mutex> lock(mutex);
     auto it = cache.find(key);
