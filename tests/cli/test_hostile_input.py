@@ -65,6 +65,15 @@ class NoHang(Case):
                 self.assertTrue(all(math.isfinite(v) and v >= 0 for v in values(out)), out)
                 self.assertLess(took, 20, f"{model} sigma_s {sigma}: {took:.1f} s")
 
+    def test_tiny_sigma_with_a_narrow_lobe_finishes(self):
+        # g ~ 1e-317 (denormal): the K integral looped forever (sigma_s 1e-160) or took minutes.
+        for model in ["mbk-rough", "k", "microfacet"]:
+            rc, out, err, took = run(["eval", "--model", model, "--sigma-s", "1e-160", "--lc", "5.5e4", "--n", "1.5",
+                                      "--wavelength", "0.55", "--at", "30,30,180", "--at", "89,89,0"], timeout=60)
+            self.assertEqual(rc, 0, err)
+            self.assertTrue(all(math.isfinite(v) for v in values(out)), out)
+            self.assertLess(took, 20, f"{model}: {took:.1f} s")
+
     def test_sigma_or_lc_1e308_is_a_range_error(self):
         for model in ["mbk", "mbk-polished", "bk", "g", "microfacet", "k"]:
             self.assert_usage_error(["eval", "--model", model, "--sigma-s", "1e308", "--lc", "2"] + GOLD +
