@@ -22,7 +22,7 @@ void add_model_options(CLI::App& command, ModelOptions& o, bool require_model) {
   command.add_option("--sigma-s", o.sigma_s_um, "RMS surface height sigma_s [um], >= 0");
   command.add_option("--lc", o.lc_um, "Surface correlation length l_c [um], > 0");
   command.add_option("--wavelength", o.wavelengths, "Wavelength(s) [um], one per channel: A[,B,...]");
-  command.add_option("--n", o.n, "Real part n of the complex index n + i k, in (0, 1000]");
+  command.add_option("--n", o.n, "Real part n of the complex index n + i k, in [0.001, 1000]");
   command.add_option("--k", o.kappa, "Imaginary part kappa of the complex index, in [0, 1000] (default 0)");
   command.add_option("--material", o.material, "Built-in material (n, k tabulated per wavelength): Au, Ag, Al, Cu, Cr, Ni, Ti, Si, BK7");
   command.add_option("--sigma-g", o.sigma_g, "Microfacet slope parameter sigma_g (eq. 7), in [1e-7, 1000]; default: mapped from sigma_s, l_c");

@@ -27,7 +27,10 @@ struct ComplexIndex {
 // infrared metals); 1000 keeps eps = (n + i kappa)^2 (|eps| <= 2e6) and every Fresnel / Stover
 // factor far inside the double range, where --n 1e308 overflowed to NaN.
 inline constexpr double kMaxIndex = 1000.0;
-// Throws InvalidArgument unless 0 < n <= kMaxIndex and 0 <= kappa <= kMaxIndex.
+// Smallest n accepted (the lowest measured n of metals in the visible, Na and Ag, are ~0.05): at
+// n = 1e-300 eps underflowed to 0 and r_p = (eps cos - w)/(eps cos + w) was 0/0 at normal incidence.
+inline constexpr double kMinIndexN = 1e-3;
+// Throws InvalidArgument unless kMinIndexN <= n <= kMaxIndex and 0 <= kappa <= kMaxIndex.
 void validate_index(const ComplexIndex& index);
 
 // Exact unpolarized Fresnel reflectance (|r_s|^2 + |r_p|^2)/2 at incidence angle theta (cos given).
