@@ -98,10 +98,12 @@ class NoNaN(Case):
     def test_values_at_the_range_ends_are_finite(self):
         for model in ["mbk", "mbk-polished", "bk", "bk-modified", "microfacet", "fresnel", "r-spec", "g"]:
             for extra in [["--n", "1000", "--k", "1000", "--sigma-s", "0.1", "--lc", "2"],
+                          ["--n", "0.001", "--sigma-s", "0.1", "--lc", "2"],
                           ["--n", "1.5", "--sigma-s", "5.5e14", "--lc", "2"],
                           ["--n", "1.5", "--sigma-s", "0.1", "--lc", "5.5e-7"]]:
                 rc, out, err, _ = run(["eval", "--model", model, "--wavelength", "0.55"] + extra +
-                                      ["--at", "30,40,180", "--at", "0,0,0", "--at", "89,89,180"], timeout=60)
+                                      ["--at", "30,40,180", "--at", "0,0,0", "--at", "89,89,180", "--at", "60,10,90"],
+                                      timeout=60)
                 self.assertEqual(rc, 0, f"{model} {extra}: {err}")
                 self.assertTrue(all(math.isfinite(v) for v in values(out)), f"{model} {extra}: {out}")
 
