@@ -134,6 +134,19 @@ ModelParameters gold(const BenchSurface& s) {
   return p;
 }
 
+// A bake of mbk gold at the three default wavelengths (0.65, 0.55, 0.45 um).
+libbrdf::BakeRequest rgb_gold_request(const BenchSurface& s) {
+  libbrdf::BakeRequest request;
+  request.model = ModelKind::mbk;
+  for (double w : {0.65, 0.55, 0.45}) {
+    ModelParameters p = gold(s);
+    p.wavelength_um = w;
+    p.index = libbrdf::material_index("Au", w);
+    request.channels.push_back(p);
+  }
+  return request;
+}
+
 ModelParameters reference_parameters(const BenchSurface& s) {
   ModelParameters p = gold(s);
   p.tolerance = 0.0;
@@ -214,14 +227,7 @@ class Bench {
 
   // The MERL-size bake (90 x 90 x 180 x 3 wavelengths, mbk with K): nodes x channels per second.
   void add_bake_row(const BenchSurface& s) {
-    libbrdf::BakeRequest request;
-    request.model = ModelKind::mbk;
-    for (double w : {0.65, 0.55, 0.45}) {
-      ModelParameters p = gold(s);
-      p.wavelength_um = w;
-      p.index = libbrdf::material_index("Au", w);
-      request.channels.push_back(p);
-    }
+    libbrdf::BakeRequest request = rgb_gold_request(s);
     request.layout = LutLayout::merl;
     request.resolution = libbrdf::kMerlShape;
     request.error_samples = 2000;
@@ -310,14 +316,7 @@ class Bench {
   // error columns are channel 1 (0.55 um) against the reference.
   void add_rgb_lookup_row(const BenchSurface& s, LutLayout layout, const std::array<int, 3>& shape) {
     Reference& ref = reference(ModelKind::mbk, s, false);
-    libbrdf::BakeRequest request;
-    request.model = ModelKind::mbk;
-    for (double w : {0.65, 0.55, 0.45}) {
-      ModelParameters p = gold(s);
-      p.wavelength_um = w;
-      p.index = libbrdf::material_index("Au", w);
-      request.channels.push_back(p);
-    }
+    libbrdf::BakeRequest request = rgb_gold_request(s);
     request.layout = layout;
     request.resolution = shape;
     request.error_samples = 2000;
