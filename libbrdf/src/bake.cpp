@@ -70,7 +70,7 @@ void validate_request(const BakeRequest& r) {
   }
   if (!(r.error_floor_fraction >= 0.0 && r.error_floor_fraction < 1.0))
     throw InvalidArgument("error-floor", "fraction of the table maximum must be in [0, 1)");
-  if (r.error_samples < 1) throw InvalidArgument("error-samples", "must be >= 1");
+  if (r.error_samples < 1 || r.error_samples > 1000000) throw InvalidArgument("error-samples", "must be in [1, 1000000]");
   if (!(r.error_theta_limit_deg > 0.0 && r.error_theta_limit_deg <= 90.0))
     throw InvalidArgument("error-theta-limit", "must be in (0, 90] degrees");
 }
