@@ -8,8 +8,9 @@ for Cycles, GGX lobes for EEVEE), Cycles renders it (1 sample: a sun of angle 0 
 light exact at each pixel centre), then EEVEE renders the same objects (sun angle 0.526 deg, as
 EEVEE needs). Compared: each channel of every pixel inside the sphere (mask eroded by 2 pixels)
 with theta_i, theta_s <= 70 deg and every channel above 1% of the render's maximum, against the
-exact radiance f_r cos(theta_i) E C. Asserted per surface: >= 200 pixels, every pixel finite; for
-Cycles median relative error <= 5%, 95th percentile <= 20% (the issue's targets). EEVEE's errors are
+exact radiance f_r cos(theta_i) E C. Asserted per surface: >= 200 pixels, every pixel finite; median
+relative error <= 5%, 95th percentile <= 20% (the issue's targets) for Cycles everywhere and for
+EEVEE on the narrow lobes (polished n = 1.5 + 1i and Au, BK7); EEVEE's errors on the broad lobes are
 measured and printed, not asserted: they miss the targets (its GGX is an LTC approximation).
 Usage: test_blender_fit.py [--keep DIR] [--engines CYCLES,BLENDER_EEVEE]
   (env BRDF_EXE, LIBBRDF_ROOT; EEVEE without an OpenGL context is reported and skipped)
@@ -51,6 +52,9 @@ SURFACES = [
     ("Au_s0.5_lc3", dict(model="mbk", material="Au", sigma_s=0.5, lc=3.0)),
     ("BK7_s0.1", dict(model="mbk", material="BK7", sigma_s=0.1, lc=2.0)),
 ]
+# EEVEE meets the targets on the narrow lobes only (the signed GGX lobes of broad ones do not
+# cancel in EEVEE as in GGX); elsewhere its error is printed as MEASURED.
+EEVEE_ASSERTED = {"n1.5+1i_s0.02", "Au_s0.02", "BK7_s0.1"}
 CAMERA = {"direction": [0.0, -1.0, 0.3], "ortho_scale": 2.6}
 SUN = {"direction": [0.7, -0.7, 0.3], "strength": 2.0, "color": [1.0, 0.95, 0.9], "shadow": False}
 # The polished halo covers a few degrees around the half vector: finer pixels for it.
@@ -142,9 +146,9 @@ def run(tmp, engines):
             fit = json.load(f)["fit"]
         stored = fit["eevee"]["error"] if render["engine"] != "CYCLES" else fit["error"]
         table.append((render["surface"], render["engine"], int(selected.sum()), median, p95, stored["median"], stored["p95"]))
-        if render["engine"] != "CYCLES":
+        if render["engine"] != "CYCLES" and render["surface"] not in EEVEE_ASSERTED:
             # Known gap (reported, not asserted): EEVEE's GGX is an LTC approximation whose tails are
-            # not GGX's, so the signed GGX lobes fitted to Cycles' GGX do not cancel as fitted.
+            # not GGX's, so broad signed GGX lobes fitted to Cycles' GGX do not cancel as fitted.
             print(f"     MEASURED (EEVEE, not asserted) {render['name']}: median {median:.2%}, p95 {p95:.2%}")
             continue
         check(median <= MEDIAN_LIMIT and p95 <= P95_LIMIT,
