@@ -131,7 +131,8 @@ void bake_nodes(const BakeRequest& r, const std::vector<Model>& models, Lut& lut
           for (int c = 0; c < channels; ++c) {
             // kernel layout: the angular factor P = f(A = 1) / K(theta_i) (lut.h).
             const double value = kernel ? models[c].evaluate(geo, 1.0) / (models[c].renormalization(angles.theta_i) *
-                                                                          fresnel_reflectance(lut.kernel_index[c].permittivity(), geo.cos_theta_d))
+                                                                          fresnel_reflectance(lut.kernel_index[c].permittivity(), geo.cos_theta_d) *
+                                                                          detail::kernel_closed_form_factor(lut.kernel_model, geo))
                                  : row_feasible && models[c].uses_asf() ? models[c].evaluate(geo, row_asf[c])
                                                                         : models[c].evaluate(geo);
             if (!(std::abs(value) <= double(FLT_MAX))) non_finite(angles, c, value);
@@ -181,6 +182,7 @@ Lut bake_table(const BakeRequest& r, const std::vector<Model>& models, const std
   if (lut.layout == LutLayout::slice) lut.shape[2] = 1;
   for (const ModelParameters& p : r.channels) lut.wavelengths_um.push_back(p.wavelength_um);
   if (lut.layout == LutLayout::kernel) {
+    lut.kernel_model = r.model;
     for (const Model& m : models) {
       lut.kernel_sigma_over_lambda.push_back(m.surface().sigma_over_lambda());
       lut.kernel_lc_over_lambda.push_back(m.surface().lc_over_lambda());

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "libbrdf/error.h"
+#include "libbrdf/beckmann_kirchhoff.h"
 #include "libbrdf/kernel_table.h"
 #include "lut_internal.h"
 #include "simd_math.h"
@@ -276,7 +277,16 @@ void detail::lookup_channels(const Lut& lut, const ScatterGeometry& geo, const T
     args.c = kPi * args.prefactor * geo.eta_r2;
     const double asf = asf_auto(args, kKernelTableCertifiedError);
     const double fresnel = fresnel_reflectance(lut.kernel_index[channel].permittivity(), geo.cos_theta_d);
-    values[c] = linear_1d(lut.renormalization[channel], angles.theta_i) * fresnel * table * asf;
+    values[c] = linear_1d(lut.renormalization[channel], angles.theta_i) * fresnel * kernel_closed_form_factor(lut.kernel_model, geo) *
+                table * asf;
+  }
+}
+
+double detail::kernel_closed_form_factor(ModelKind model, const ScatterGeometry& geo) {
+  switch (model) {
+    case ModelKind::bk: return bk_geometric_factor_eq26(geo);
+    case ModelKind::bk_modified: return inverse_s_term_eq28(geo);
+    default: return 1.0;
   }
 }
 

@@ -21,6 +21,9 @@ struct TableAngles {
   double theta_h, theta_d, phi_d, theta_i;
 };
 void table_angles(const ScatterGeometry* geos, std::size_t count, TableAngles* out);
+// Kernel layout: the closed-form part of the angular factor (F_bk^2 of eq. 26 for bk, 1/S of eq.
+// 28 for bk-modified, 1 otherwise); the table holds the rest.
+double kernel_closed_form_factor(ModelKind model, const ScatterGeometry& geo);
 // Interpolated values of channels [first, first + count) at one geometry with its TableAngles.
 void lookup_channels(const Lut& lut, const ScatterGeometry& geo, const TableAngles& angles, int first_channel,
                      int channel_count, double* values);

@@ -224,6 +224,14 @@ void restore_from_metadata(Lut& lut, const std::map<std::string, std::string>& m
     lut.kernel_lc_over_lambda = numbers("kernel_lc_over_lambda", lut.wavelengths_um.size());
     const std::vector<double> index = numbers("kernel_index", 2 * lut.wavelengths_um.size());
     lut.kernel_index.clear();
+    try {
+      lut.kernel_model = model_from_name(get("model"));
+    } catch (const InvalidArgument&) {
+      fail("unknown model '" + message_excerpt(get("model")) + "'");
+    }
+    if (!(lut.kernel_model == ModelKind::mbk || lut.kernel_model == ModelKind::mbk_fg || lut.kernel_model == ModelKind::bk ||
+          lut.kernel_model == ModelKind::bk_modified))
+      fail("layout kernel holds an ASF model (mbk, mbk-fg, bk, bk-modified)");
     for (std::size_t c = 0; c < lut.wavelengths_um.size(); ++c) {
       if (!(index[2 * c] > 0.0 && index[2 * c] <= 1e3 && index[2 * c + 1] >= 0.0 && index[2 * c + 1] <= 1e3))
         fail("kernel_index must hold n in (0, 1e3] and kappa in [0, 1e3] per channel");

@@ -40,7 +40,9 @@
 //                factor (Qbar for mbk, F G/S for mbk-fg, F F_bk^2 for bk, F/S for bk-modified:
 //                the model with A = 1, divided by K), with the exact Fresnel F(theta_d) of the
 //                channel's n + i kappa (libbrdf:kernel_index) evaluated at lookup and P~ = P/F,
-//                smooth and ~1 near specular, on a node grid over (theta_h uniform, theta_d,
+//                smooth and ~1 near specular (for bk and bk-modified P~ = F_bk^2 of eq. 26 and
+//                1/S of eq. 28 are closed forms of the geometry, evaluated at lookup: their
+//                table holds P~ / that, i.e. 1), on a node grid over (theta_h uniform, theta_d,
 //                phi_d) (default 54^3: 1.9 MB for 3 channels, trilinear); Sigma(g, c) from the universal kernel table
 //                (kernel_table.h, not stored: any reader regenerates it, and it is the same for
 //                every material), g = (2 pi sigma_s/lambda)^2 (N.L + N.V)^2 and
@@ -134,6 +136,7 @@ class Lut {
   Direction light, view;                    // slice layout only (world space, towards light/camera)
   std::vector<double> kernel_sigma_over_lambda, kernel_lc_over_lambda;  // kernel layout only, per channel
   std::vector<ComplexIndex> kernel_index;   // kernel layout only: n + i kappa per channel (F(theta_d))
+  ModelKind kernel_model = ModelKind::mbk;  // kernel layout only: bk and bk-modified have closed-form P~
   LutError error;                           // measured at bake time, stored in the file
   std::map<std::string, std::string> attributes;  // model name, parameters, version, ... (file metadata)
 
