@@ -69,6 +69,11 @@ PRESETS = {
 }
 
 
+# K of eq. 13 ("plane", the paper's) or renormalized to the total integrated scatter ("tis": the
+# energy-conserving choice, README "brdf albedo").
+K_MODES = ("plane", "tis")
+
+
 class RequestError(ValueError):
     """A bad parameter: the message is one line naming the parameter and its range."""
 
@@ -86,6 +91,7 @@ class MaterialRequest:
     resolution: tuple = DEFAULT_RESOLUTION
     name: str = ""
     target_error: float = DEFAULT_TARGET_ERROR  # FIT mode only
+    k_mode: str = "plane"         # K of mbk, mbk-rough, mbk-fg: plane (eq. 13) | tis (conserves energy)
 
 
     def validated(self):
@@ -115,6 +121,8 @@ class MaterialRequest:
         r.resolution = res
         if not (isinstance(r.target_error, (int, float)) and math.isfinite(r.target_error) and 0.0 < r.target_error <= 1.0):
             raise RequestError(f"target_error: must be a relative error in (0, 1] (got {r.target_error!r})")
+        if r.k_mode not in K_MODES:
+            raise RequestError(f"k_mode: must be one of {'|'.join(K_MODES)} (got {r.k_mode!r})")
         if not r.name:
             r.name = default_name(r)
         return r
@@ -159,7 +167,17 @@ def export_arguments(request):
         args += ["--resolution", ",".join(str(v) for v in request.resolution)]
     else:
         args += ["--target-error", _number(request.target_error)]
+    if request.k_mode != "plane":
+        args += ["--k-mode", request.k_mode]
     return args
+
+
+def albedo_text(description):
+    """One line for the panel: the exported model's largest directional albedo and the advice."""
+    albedo = description.get("albedo")
+    if not albedo:
+        return ""
+    return f"albedo max {albedo['max']:.3f} (theta_i <= {max(albedo['theta_i_deg']):g} deg): {albedo['advice']}"
 
 
 def fit_error_text(description):

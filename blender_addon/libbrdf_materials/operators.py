@@ -37,6 +37,9 @@ class LIBBRDF_OT_add_material(bpy.types.Operator):
     name: StringProperty(name="Name", default="", description="Node group name (default: from the parameters)")
     target_error: FloatProperty(name="Target error", default=core.DEFAULT_TARGET_ERROR, min=0.001, max=1.0,
                                 description="FIT: p95 per-pixel relative error the number of fitted lobes must meet")
+    k_mode: EnumProperty(name="K", default="plane",
+                         items=[("plane", "plane (eq. 13)", "The paper's renormalization; exceeds albedo 1 near grazing on rough surfaces"),
+                                ("tis", "tis (conserves energy)", "K renormalized to the total integrated scatter")])
 
     @classmethod
     def poll(cls, context):
@@ -47,7 +50,7 @@ class LIBBRDF_OT_add_material(bpy.types.Operator):
         request = core.MaterialRequest(model=self.model, sigma_s=self.sigma_s, lc=self.lc, n=self.n, k=self.k,
                                        material=self.material, wavelengths=tuple(self.wavelengths), mode=self.mode,
                                        resolution=tuple(self.resolution), name=self.name,
-                                       target_error=self.target_error)
+                                       target_error=self.target_error, k_mode=self.k_mode)
         try:
             request = request.validated()
             if request.mode in ("LUT", "OSL") and blender_nodes.first_sun(context.scene) is None:
@@ -67,6 +70,10 @@ class LIBBRDF_OT_add_material(bpy.types.Operator):
         error = description.get("lut", {}).get("error", {})
         detail = (f", table error rms {error['rms_relative']:.2%}, max {error['max_relative']:.2%} "
                   "(over all angles up to grazing)" if error else "")
+        albedo = core.albedo_text(description)
+        if albedo:
+            group.node_tree["libbrdf_albedo"] = albedo  # shown in the panel
+            detail += ", " + albedo
         fit_text = core.fit_error_text(description)
         if fit_text:
             group.node_tree["libbrdf_fit_error"] = fit_text  # shown in the panel

@@ -42,6 +42,9 @@ class LIBBRDF_MaterialSettings(bpy.types.PropertyGroup):
     resolution: IntVectorProperty(name="Table nodes", size=3, default=core.DEFAULT_RESOLUTION, min=2, max=4096)
     target_error: FloatProperty(name="Target error", default=core.DEFAULT_TARGET_ERROR, min=0.001, max=1.0,
                                 description="FIT: p95 per-pixel relative error the number of fitted lobes must meet")
+    k_mode: EnumProperty(name="K", default="plane",
+                         items=[("plane", "plane (eq. 13)", "The paper's renormalization; exceeds albedo 1 near grazing on rough surfaces"),
+                                ("tis", "tis (conserves energy)", "K renormalized to the total integrated scatter")])
 
 
 class LIBBRDF_MT_presets(bpy.types.Menu):
@@ -83,13 +86,17 @@ class LIBBRDF_PT_material(bpy.types.Panel):
             layout.prop(s, "resolution")
         else:
             layout.prop(s, "target_error")
+        layout.prop(s, "k_mode")
         op = layout.operator("libbrdf.add_material", icon="MATERIAL")
         op.model, op.sigma_s, op.lc, op.n, op.k = s.model, s.sigma_s, s.lc, s.n, s.k
         op.material = "" if s.material == "CUSTOM" else s.material
         op.wavelengths, op.mode, op.resolution = s.wavelengths, s.mode, s.resolution
         op.target_error = s.target_error
+        op.k_mode = s.k_mode
         # The active material's libbrdf group: its fit's measured error (FIT mode).
         material = context.object.active_material
         group = material.node_tree.nodes.get("libbrdf") if material and material.node_tree else None
         if group is not None and group.node_tree is not None and group.node_tree.get("libbrdf_fit_error"):
             layout.label(text="Fit: " + group.node_tree["libbrdf_fit_error"], icon="INFO")
+        if group is not None and group.node_tree is not None and group.node_tree.get("libbrdf_albedo"):
+            layout.label(text="Energy: " + group.node_tree["libbrdf_albedo"], icon="LIGHT_SUN")

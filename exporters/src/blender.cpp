@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+
+#include "exporters/energy.h"
 #include <sstream>
 #include <stdexcept>
 #include <unistd.h>
@@ -198,6 +200,12 @@ std::string blender_description_json(const BlenderExport& e) {
     d["lut"] = lut;
   }
   if (!e.osl_file.empty()) d["osl"] = {{"file", e.osl_file}, {"shader", e.osl_shader_name}};
+  {  // energy (issue 11): the exported model's directional albedo, spike included
+    const ::exporters::EnergySummary energy = ::exporters::energy_summary(e.model, e.channels);
+    d["albedo"] = {{"theta_i_deg", energy.theta_i_deg}, {"per_channel", energy.albedo}, {"max", energy.max_albedo},
+                   {"k_mode", energy.k_mode}, {"other_k_mode_max", energy.other_k_mode_max_albedo},
+                   {"advice", energy.advice}};
+  }
 
   const SpikeFit& spike = e.spike;
   json fit = {{"f0", spike.f0},

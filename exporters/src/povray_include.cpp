@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "libbrdf/image_file.h"
+#include "exporters/energy.h"
 #include "exporters/povray.h"
 #include "libbrdf/error.h"
 #include "libbrdf/version.h"
@@ -118,6 +119,19 @@ std::string include_text(const std::string& name, ModelKind model, const std::ve
       << "//   (theta from the normal, phi_s = 180 deg forward, unpolarized Qbar).\n";
   for (std::size_t k = 0; k < channels.size(); ++k)
     out << "//   " << (k < 3 ? channel_names[k] : "?") << ": " << describe_channel(channels[k]) << "\n";
+  {  // energy (issue 11): the model's directional albedo, spike included (libbrdf/albedo.h)
+    const ::exporters::EnergySummary energy = ::exporters::energy_summary(model, channels);
+    out << "// Directional albedo (white furnace, spike included) at theta_i =";
+    for (double t : energy.theta_i_deg) out << " " << t;
+    out << " deg:\n";
+    for (std::size_t k = 0; k < energy.albedo.size(); ++k) {
+      out << "//   " << (k < 3 ? channel_names[k] : "?") << ":";
+      for (double a : energy.albedo[k]) out << " " << a;
+      out << "\n";
+    }
+    out << "//   " << energy.advice << "\n";
+    out << "#declare " << N << "_Albedo_Max = " << energy.max_albedo << ";\n";
+  }
   out << "//\n"
       << "// Usage:\n"
       << "//   #declare " << N << "_Irradiance = 1;  // optional, before the include (float or rgb)\n"

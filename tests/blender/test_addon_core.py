@@ -182,6 +182,34 @@ def test_cli_contract(tmp):
     check(done.returncode == 0 and done.stdout.split() == [out], f"fit mode writes only the description ({done.stdout.split()})")
 
 
+def test_energy_statement(tmp):
+    """Issue 11: the export states the albedo of what it exports (white furnace, spike included) and
+    which K conserves energy, measured, not assumed. A silver-like polished surface (n = 0.2 + 6i,
+    sigma_s = 0.05 um, l_c = 2 um, lambda = 1 um): <= 1 at every angle (brdf albedo: max 0.992 at
+    85 deg). Rough gold (sigma_s = 0.5 um, 0.55 um): both K modes exceed 1 (brdf albedo: 1.09 plane,
+    1.17 tis at 80 deg), and the advice says so instead of promising tis."""
+    def albedo(k_mode, **surface):
+        r = core.MaterialRequest(model="mbk", mode="FIT", k_mode=k_mode, **surface).validated()
+        return core.load_description(core.run_export(BRDF, r, tmp))["albedo"]
+    polished = dict(n=0.2, k=6.0, sigma_s=0.05, lc=2.0, wavelengths=(1.0, 1.0, 1.0))
+    plane, tis = albedo("plane", **polished), albedo("tis", **polished)
+    check(plane["theta_i_deg"] == [0, 30, 60, 80, 85] and plane["k_mode"] == "plane", f"albedo statement {plane}")
+    check(0.9 < plane["max"] <= 1.0 and "conserves energy" in plane["advice"],
+          f"polished silver-like: albedo max {plane['max']:.4f} <= 1 stated: {plane['advice']}")
+    check(tis["k_mode"] == "tis" and abs(tis["max"] - plane["other_k_mode_max"]) < 1e-9,
+          f"the other K mode's albedo is the one its own export states ({tis['max']}, {plane['other_k_mode_max']})")
+    rough = albedo("plane", material="Au", sigma_s=0.5, lc=2.0, wavelengths=(0.55, 0.55, 0.55))
+    check(rough["max"] > 1.0 and rough["other_k_mode_max"] > 1.0 and "no K mode conserves" in rough["advice"],
+          f"rough gold: both K modes > 1 stated ({rough['max']:.3f}, {rough['other_k_mode_max']:.3f})")
+    check(core.export_arguments(core.MaterialRequest(k_mode="tis").validated())[-2:] == ["--k-mode", "tis"],
+          "k_mode reaches brdf")
+    try:
+        core.MaterialRequest(k_mode="bogus").validated()
+        check(False, "bad k_mode rejected")
+    except core.RequestError as e:
+        check(str(e).startswith("k_mode:"), f"bad k_mode named: {e}")
+
+
 def main():
     test_package_without_bpy()
     test_validation()
@@ -191,6 +219,7 @@ def main():
         test_executable_lookup(tmp)
         test_export_and_cache(tmp)
         test_cli_contract(tmp)
+        test_energy_statement(tmp)
     checks.finish("add-on core checks passed")
 
 
