@@ -8,7 +8,10 @@ the CPU time of `--model g` (eq. 12, no series) on the same file. Each timing is
 OPENBLAS/OMP threads play no part in elementwise numpy).
 
   tools/bench/eval_vs_numpy.py --brdf build/cli/brdf [--points 200000] [--tolerance 1e-6 ...]
-Prints a CSV: surface,model,tolerance,numpy_ns,cli_ns,speedup,max_rel_diff (CLI vs numpy).
+Prints a CSV: surface,model,tolerance,numpy_ns,cli_ns,speedup,max_rel_diff (CLI vs numpy), and,
+when the Python module imports (PYTHONPATH=build/python), the same batch API without CSV I/O:
+module_cpu_ns (all threads), module_wall_ns, module_speedup_cpu (numpy CPU / module CPU). The CLI
+difference is the noisier number: its CSV I/O costs ~3 us per query against ~0.1-0.3 us of ASF.
 """
 import argparse, math, os, resource, subprocess, sys, tempfile, time
 import numpy as np
@@ -63,7 +66,11 @@ def main():
     rng = np.random.default_rng(1)
     deg = np.column_stack([rng.uniform(0, 85, a.points), rng.uniform(0, 85, a.points), rng.uniform(0, 360, a.points)])
     ti, ts, ps = np.radians(deg.T)
-    print("surface,model,tolerance,numpy_ns,cli_ns,speedup,max_rel_diff")
+    try:  # the same batch API without CSV I/O: the Python module (PYTHONPATH=build/python)
+        import libbrdf
+    except ImportError:
+        libbrdf = None
+    print("surface,model,tolerance,numpy_ns,cli_ns,speedup,max_rel_diff,module_cpu_ns,module_wall_ns,module_speedup_cpu")
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "q.csv")
         np.savetxt(path, deg, delimiter=",", fmt="%.17g")
@@ -82,7 +89,21 @@ def main():
                 mask = ref > 1e-300
                 diff = float(np.max(np.abs(vals[mask] - ref[mask]) / ref[mask])) if model == "asf" else float("nan")
                 per_np, per_cli = best_np / a.points * 1e9, max(t - io, 1e-12) / a.points * 1e9
-                print(f"{name},{model},{tol},{per_np:.1f},{per_cli:.1f},{per_np / per_cli:.2f},{diff:.2e}")
+                module = ",,"
+                if libbrdf is not None:
+                    kwargs = dict(sigma_s=s["sigma_s"], lc=s["lc"], wavelength=s["wavelength"], tolerance=float(tol))
+                    if model != "asf":
+                        kwargs.update(n=1.5, k=1.0)
+                    m = libbrdf.Model(model, **kwargs)
+                    m(deg[:10, 0], deg[:10, 1], deg[:10, 2])  # one-time set-up (kernel table) outside the timing
+                    cpu = wall = math.inf
+                    for _ in range(a.repeat):
+                        c0, w0 = time.process_time(), time.perf_counter()
+                        m(deg[:, 0], deg[:, 1], deg[:, 2])
+                        cpu, wall = min(cpu, time.process_time() - c0), min(wall, time.perf_counter() - w0)
+                    per_cpu, per_wall = cpu / a.points * 1e9, wall / a.points * 1e9
+                    module = f"{per_cpu:.1f},{per_wall:.1f},{per_np / per_cpu:.2f}"
+                print(f"{name},{model},{tol},{per_np:.1f},{per_cli:.1f},{per_np / per_cli:.2f},{diff:.2e},{module}")
                 sys.stdout.flush()
 
 
