@@ -96,3 +96,36 @@ def predicted_spike(brdf, model, channels, normals, view, world):
         p = channels[min(rgb, len(channels) - 1)]
         out[seen, rgb] = brdf_eval(brdf, "r-spec", p, (ts[seen], ts[seen], np.full(seen.sum(), 180.0))) * world[rgb]
     return out
+
+
+def run_blender_job(tmp, renders, blender, brdf, root, addon_zip, eevee_hint=""):
+    """Runs tools/blender_render_job.py in a headless Blender (factory settings, the add-on
+    installed from its zip into a private user-scripts folder) on `renders`. Returns the results
+    list; exits 77 (skip) when EEVEE has no OpenGL context (`eevee_hint`: the job uses EEVEE) and
+    fails the check with the log's tail when Blender fails otherwise."""
+    import shutil
+    import subprocess
+
+    import checks
+    from checks import check
+
+    job = {"addon": {"zip": addon_zip(tmp)}, "results": os.path.join(tmp, "results.json"), "renders": renders}
+    job_path = os.path.join(tmp, "job.json")
+    with open(job_path, "w", encoding="utf-8") as f:
+        json.dump(job, f, indent=1)
+    env = dict(os.environ, LIBBRDF_BRDF_EXE=os.path.abspath(brdf) if os.path.sep in brdf else shutil.which(brdf),
+               BLENDER_USER_SCRIPTS=os.path.join(tmp, "user_scripts"), BLENDER_USER_CONFIG=os.path.join(tmp, "user_config"),
+               TMPDIR=tmp)
+    done = subprocess.run([blender, "-b", "--factory-startup", "--python-exit-code", "1",
+                           "--python", os.path.join(root, "tools", "blender_render_job.py"), "--", job_path],
+                          env=env, capture_output=True, text=True)
+    log = done.stdout + done.stderr
+    if done.returncode != 0 or not os.path.isfile(job["results"]):
+        if eevee_hint and ("EGL" in log or "OpenGL" in log or "GPU" in log):
+            print(f"SKIP: EEVEE needs an OpenGL context{eevee_hint}:\n" + log[-1500:])
+            sys.exit(77)
+        print(log[-4000:])
+        check(False, f"blender ran the job (exit {done.returncode})")
+        checks.finish()
+    with open(job["results"], encoding="utf-8") as f:
+        return json.load(f)

@@ -20,7 +20,6 @@ import argparse
 import json
 import os
 import shutil
-import subprocess
 import sys
 import tempfile
 
@@ -105,26 +104,8 @@ def main():
 
 def run(tmp, engines):
     jobs = renders(tmp, engines)
-    job = {"addon": {"zip": addon_zip(tmp)}, "results": os.path.join(tmp, "results.json"), "renders": jobs}
-    job_path = os.path.join(tmp, "job.json")
-    with open(job_path, "w", encoding="utf-8") as f:
-        json.dump(job, f, indent=1)
-    env = dict(os.environ, LIBBRDF_BRDF_EXE=os.path.abspath(BRDF) if os.path.sep in BRDF else shutil.which(BRDF),
-               BLENDER_USER_SCRIPTS=os.path.join(tmp, "user_scripts"), BLENDER_USER_CONFIG=os.path.join(tmp, "user_config"),
-               TMPDIR=tmp)
-    done = subprocess.run([BLENDER, "-b", "--factory-startup", "--python-exit-code", "1",
-                           "--python", os.path.join(ROOT, "tools", "blender_render_job.py"), "--", job_path],
-                          env=env, capture_output=True, text=True)
-    log = done.stdout + done.stderr
-    if done.returncode != 0 or not os.path.isfile(job["results"]):
-        if "BLENDER_EEVEE" in engines and ("EGL" in log or "OpenGL" in log or "GPU" in log):
-            print("SKIP: EEVEE needs an OpenGL context; rerun with --engines CYCLES:\n" + log[-1500:])
-            return 77
-        print(log[-4000:])
-        check(False, f"blender ran the job (exit {done.returncode})")
-        checks.finish()
-    with open(job["results"], encoding="utf-8") as f:
-        results = json.load(f)
+    results = render_check.run_blender_job(tmp, jobs, BLENDER, BRDF, ROOT, addon_zip,
+                                           " (rerun with --engines CYCLES)" if "BLENDER_EEVEE" in engines else "")
     surfaces = dict(SURFACES)
     table = []
     for render, result in zip(jobs, results):

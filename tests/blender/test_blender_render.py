@@ -17,10 +17,8 @@ Usage: test_blender_render.py [--engine CYCLES|BLENDER_EEVEE] [--keep DIR]
 """
 
 import argparse
-import json
 import os
 import shutil
-import subprocess
 import sys
 import tempfile
 
@@ -105,26 +103,8 @@ def main():
 
 def run(args, tmp):
     renders = scenes(tmp, args.engine)
-    job = {"addon": {"zip": addon_zip(tmp)}, "results": os.path.join(tmp, "results.json"), "renders": renders}
-    job_path = os.path.join(tmp, "job.json")
-    with open(job_path, "w", encoding="utf-8") as f:
-        json.dump(job, f, indent=1)
-    env = dict(os.environ, LIBBRDF_BRDF_EXE=os.path.abspath(BRDF) if os.path.sep in BRDF else shutil.which(BRDF),
-               BLENDER_USER_SCRIPTS=os.path.join(tmp, "user_scripts"), BLENDER_USER_CONFIG=os.path.join(tmp, "user_config"),
-               TMPDIR=tmp)
-    done = subprocess.run([BLENDER, "-b", "--factory-startup", "--python-exit-code", "1",
-                           "--python", os.path.join(ROOT, "tools", "blender_render_job.py"), "--", job_path],
-                          env=env, capture_output=True, text=True)
-    log = done.stdout + done.stderr
-    if done.returncode != 0 or not os.path.isfile(job["results"]):
-        if args.engine != "CYCLES" and ("EGL" in log or "OpenGL" in log or "GPU" in log):
-            print("SKIP: EEVEE needs an OpenGL context:\n" + log[-1500:])
-            return 77
-        print(log[-4000:])
-        check(False, f"blender ran the job (exit {done.returncode})")
-        checks.finish()
-    with open(job["results"], encoding="utf-8") as f:
-        results = json.load(f)
+    results = render_check.run_blender_job(tmp, renders, BLENDER, BRDF, ROOT, addon_zip,
+                                           "" if args.engine == "CYCLES" else " (EEVEE)")
     check(all(os.path.join(tmp, "user_scripts") in r["addon_file"] for r in results),
           f"add-on installed by Blender's installer into the user scripts folder ({results[0]['addon_file']})")
     print(f"     Blender {results[0]['blender']}, {args.engine}")
