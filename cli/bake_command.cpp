@@ -1,6 +1,6 @@
 // `brdf bake`: a model baked into a table (OpenEXR or MERL binary), error measured and printed.
 //   brdf bake --model NAME [surface params as in eval] [--wavelength a,b,c]
-//             [--layout rusinkiewicz|merl|slice] [--resolution A,B,C | --target-error REL]
+//             [--layout rusinkiewicz|merl|slice|kernel] [--resolution A,B,C | --target-error REL]
 //             [--light-dir X,Y,Z --view-dir X,Y,Z] [--scene scene.json] -o OUT.exr|OUT.binary
 // Progress goes to stderr only when stderr is a terminal. SIGINT, SIGTERM or SIGHUP at any moment
 // exits 130/143/129 with no final file changed and no temporary left (interrupt.h); files are
@@ -150,7 +150,7 @@ void register_bake(CLI::App& app, ActionTable& actions) {
   auto options = std::make_shared<BakeOptions>();
   CLI::App* command = app.add_subcommand("bake", "Bake a BRDF model into a table (OpenEXR or MERL binary) and measure its error");
   add_model_options(*command, options->model);
-  command->add_option("--layout", options->layout, "Table layout: rusinkiewicz (default) | merl | slice");
+  command->add_option("--layout", options->layout, "Table layout: rusinkiewicz (default) | merl | slice | kernel (factored ASF models: K F P x Sigma(g, c))");
   command->add_option("--resolution", options->resolution, "Nodes per axis A,B,C (slice: A,B)");
   command->add_option("--target-error", options->target_error,
                       "Smallest table whose measured max relative error is <= REL (grid grows by 1.25 per axis)");
