@@ -92,6 +92,15 @@ def erode(mask, pixels):
     return out
 
 
+def analytic_sphere_normals(size, half_width=1.15):
+    """Unit sphere seen by Brdf_Ortho_Camera(<0,0,-1>, 0, 2.3, 2.3): pixel centres (i + 1/2)."""
+    j, i = np.mgrid[0:size, 0:size]
+    x = (i + 0.5) / size * 2 * half_width - half_width
+    y = half_width - (j + 0.5) / size * 2 * half_width
+    z = -np.sqrt(np.clip(1 - x * x - y * y, 0, None))
+    return np.stack([x, y, z], -1)
+
+
 def unit(v):
     v = np.asarray(v, dtype=np.float64)
     return v / np.linalg.norm(v)

@@ -51,15 +51,6 @@ CASES = [
 ]
 
 
-def analytic_sphere_normals(size, half_width=1.15):
-    """Unit sphere seen by Brdf_Ortho_Camera(<0,0,-1>, 0, 2.3, 2.3): pixel centres (i + 1/2)."""
-    j, i = np.mgrid[0:size, 0:size]
-    x = (i + 0.5) / size * 2 * half_width - half_width
-    y = half_width - (j + 0.5) / size * 2 * half_width
-    z = -np.sqrt(np.clip(1 - x * x - y * y, 0, None))
-    return np.stack([x, y, z], -1)
-
-
 def run_case(case):
     directory = OUT / case["name"]
     directory.mkdir(parents=True, exist_ok=True)
@@ -76,7 +67,7 @@ def run_case(case):
     inner = pc.erode(mask, 2)
     normals = pc.decode_normals(render["coarse"], render["fine"])
     if case["shape"] == 0 and tuple(case["view"]) == (0, 0, -1):
-        exact = analytic_sphere_normals(case["size"])
+        exact = pc.analytic_sphere_normals(case["size"])
         deviation = np.linalg.norm(normals - exact, axis=-1)[inner].max()
         check(deviation < 2e-4, f"{case['name']}: decoded normals deviate from the analytic sphere by {deviation:.2e}")
         print(f"  normal pass vs analytic sphere: max |dN| = {deviation:.2e}")

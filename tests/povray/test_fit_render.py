@@ -43,15 +43,6 @@ CASES = [
 ]
 
 
-def analytic_sphere_normals(size, half_width=1.15):
-    """Unit sphere seen by Brdf_Ortho_Camera(<0,0,-1>, 0, 2.3, 2.3): pixel centres (i + 1/2)."""
-    j, i = np.mgrid[0:size, 0:size]
-    x = (i + 0.5) / size * 2 * half_width - half_width
-    y = half_width - (j + 0.5) / size * 2 * half_width
-    z = -np.sqrt(np.clip(1 - x * x - y * y, 0, None))
-    return np.stack([x, y, z], -1)
-
-
 def main():
     rows = []
     for name, params, size, asserted in CASES:
@@ -64,7 +55,7 @@ def main():
         image = pc.run_povray(SCENE, directory / "fit.exr", size, size, [directory], dict(Shape=0, Pass=2, Irradiance=1))
         check(np.all(np.isfinite(image)), f"{name}: fit render finite (no NaN/Inf)")
         mask = pc.erode(image[..., 3] > 0.999, 2)
-        normals = analytic_sphere_normals(size)[mask]
+        normals = pc.analytic_sphere_normals(size)[mask]
         exact, lit = pc.predicted_radiance(BRDF, "mbk", params, WAVELENGTHS, normals, LIGHT, VIEW, 1.0)
         ti, ts, _ = pc.scatter_angles(normals, LIGHT, VIEW)
         rendered = image[mask][:, :3]
