@@ -50,7 +50,17 @@ std::array<int, 3> target_error_start_resolution(LutLayout layout) {
   return kMerlShape;
 }
 
-HalfDifferenceAngles half_difference_angles(const ScatterGeometry& geo) {
+namespace {
+// (y, x) pairs whose atan2 are theta_h, theta_d and phi_d (folded), from the dot products of one
+// geometry: the half-vector frame of MERL's reference reader (lut.h). One computation for
+// half_difference_angles() and the table lookups' trig-free coordinates.
+struct HalfVectorFrame {
+  double h_xy, hz;  // theta_h = atan2(h_xy, hz)
+  double d_xy, dz;  // theta_d = atan2(d_xy, dz)
+  double ty, dx;    // phi_d = |atan2(ty, dx)|
+};
+
+HalfVectorFrame half_vector_frame(const ScatterGeometry& geo) {
   // Incident i = (sin ti, 0, cos ti), scattered s = (sin ts cos phi_s, sin ts sin phi_s, cos ts);
   // half vector along i + s.
   const double hx = geo.sin_theta_i + geo.sin_theta_s * geo.cos_phi_s;
@@ -68,10 +78,16 @@ HalfDifferenceAngles half_difference_angles(const ScatterGeometry& geo) {
   const double tx = geo.sin_theta_i * cos_phi_h, ty = -geo.sin_theta_i * sin_phi_h;
   const double dx = tx * cos_theta_h - geo.cos_theta_i * sin_theta_h;
   const double dz = tx * sin_theta_h + geo.cos_theta_i * cos_theta_h;
+  return {h_xy, hz, std::sqrt(dx * dx + ty * ty), dz, ty, dx};
+}
+}  // namespace
+
+HalfDifferenceAngles half_difference_angles(const ScatterGeometry& geo) {
+  const HalfVectorFrame f = half_vector_frame(geo);
   HalfDifferenceAngles hd;
-  hd.theta_h = std::atan2(h_xy, hz);
-  hd.theta_d = std::atan2(std::sqrt(dx * dx + ty * ty), dz);
-  hd.phi_d = std::abs(std::atan2(ty, dx));  // mirror symmetry: phi_d and -phi_d are equal
+  hd.theta_h = std::atan2(f.h_xy, f.hz);
+  hd.theta_d = std::atan2(f.d_xy, f.dz);
+  hd.phi_d = std::abs(std::atan2(f.ty, f.dx));  // mirror symmetry: phi_d and -phi_d are equal
   return hd;
 }
 
@@ -187,19 +203,10 @@ inline PendingAngle ratio_of(double y, double x) {
 // The four angles a lookup needs: theta_h, theta_d, phi_d (half/difference frame of
 // half_difference_angles, from the same dot products) and theta_i (for R_spec/K).
 inline void pending_angles(const ScatterGeometry& geo, PendingAngle* out) {
-  const double hx = geo.sin_theta_i + geo.sin_theta_s * geo.cos_phi_s;
-  const double hy = geo.sin_theta_s * geo.sin_phi_s;
-  const double hz = geo.cos_theta_i + geo.cos_theta_s;
-  const double h_xy = std::sqrt(hx * hx + hy * hy);
-  const double h_norm = std::sqrt(h_xy * h_xy + hz * hz);
-  const double cos_phi_h = h_xy > 0.0 ? hx / h_xy : 1.0, sin_phi_h = h_xy > 0.0 ? hy / h_xy : 0.0;
-  const double cos_theta_h = hz / h_norm, sin_theta_h = h_xy / h_norm;
-  const double tx = geo.sin_theta_i * cos_phi_h, ty = -geo.sin_theta_i * sin_phi_h;
-  const double dx = tx * cos_theta_h - geo.cos_theta_i * sin_theta_h;
-  const double dz = tx * sin_theta_h + geo.cos_theta_i * cos_theta_h;
-  out[0] = ratio_of(h_xy, hz);
-  out[1] = ratio_of(std::sqrt(dx * dx + ty * ty), dz);
-  out[2] = ratio_of(std::abs(ty), dx);  // phi_d folded by the mirror symmetry
+  const HalfVectorFrame f = half_vector_frame(geo);
+  out[0] = ratio_of(f.h_xy, f.hz);
+  out[1] = ratio_of(f.d_xy, f.dz);
+  out[2] = ratio_of(std::abs(f.ty), f.dx);  // phi_d folded by the mirror symmetry
   out[3] = ratio_of(geo.sin_theta_i, geo.cos_theta_i);
 }
 
