@@ -15,6 +15,8 @@
 #include "libbrdf/geometry.h"
 #include "libbrdf/surface.h"
 
+#include <cstddef>
+
 namespace libbrdf {
 
 // How the series is summed.
@@ -85,6 +87,14 @@ double asf(const Surface& surface, const ScatterGeometry& geo, const SeriesOptio
 // truncated at tolerance/10. Reports the method used.
 double asf_auto(const AsfArguments& args, double tolerance, AsfRegime* regime = nullptr,
                 const SeriesOptions& options = {});
+
+// asf_auto over a batch of queries sharing one surface (one prefactor pi l_c^2/lambda^2):
+// asf_out[k] = asf_auto({g[k], c[k], prefactor}, tolerance, nullptr, options) up to the tolerance:
+// the same method choice per query, each value within `tolerance` (relative) of the exact series,
+// never NaN/Inf for finite g, c >= 0, 0 where every term underflows. Queries run in SIMD lanes
+// (Google Highway, run-time dispatch); asf_out may not alias g or c.
+void asf_auto_batch(const double* g, const double* c, std::size_t count, double prefactor, double tolerance,
+                    const SeriesOptions& options, double* asf_out);
 
 // Specular spike reflectance (the m = 0 term, a delta): R_spec(ti) = F(ti) exp(-g(ti, ti)).
 // Declared in models.h with the other Fresnel-weighted quantities.
