@@ -10,7 +10,6 @@
 #include "libbrdf/beckmann_kirchhoff.h"
 #include "libbrdf/kernel_table.h"
 #include "lut_internal.h"
-#include "simd_math.h"
 
 namespace libbrdf {
 
@@ -50,45 +49,10 @@ std::array<int, 3> target_error_start_resolution(LutLayout layout) {
   return kMerlShape;
 }
 
-namespace {
-// (y, x) pairs whose atan2 are theta_h, theta_d and phi_d (folded), from the dot products of one
-// geometry: the half-vector frame of MERL's reference reader (lut.h). One computation for
-// half_difference_angles() and the table lookups' trig-free coordinates.
-struct HalfVectorFrame {
-  double h_xy, hz;  // theta_h = atan2(h_xy, hz)
-  double d_xy, dz;  // theta_d = atan2(d_xy, dz)
-  double ty, dx;    // phi_d = |atan2(ty, dx)|
-};
-
-HalfVectorFrame half_vector_frame(const ScatterGeometry& geo) {
-  // Incident i = (sin ti, 0, cos ti), scattered s = (sin ts cos phi_s, sin ts sin phi_s, cos ts);
-  // half vector along i + s.
-  const double hx = geo.sin_theta_i + geo.sin_theta_s * geo.cos_phi_s;
-  const double hy = geo.sin_theta_s * geo.sin_phi_s;
-  const double hz = geo.cos_theta_i + geo.cos_theta_s;
-  // Components are O(1) (sums of unit vectors): plain square roots, no std::hypot (slow, and its
-  // overflow guard is not needed here).
-  const double h_xy = std::sqrt(hx * hx + hy * hy);
-  const double h_norm = std::sqrt(h_xy * h_xy + hz * hz);
-  // phi_h is undefined at theta_h = 0; any choice gives the same value for an isotropic BRDF.
-  const double cos_phi_h = h_xy > 0.0 ? hx / h_xy : 1.0;
-  const double sin_phi_h = h_xy > 0.0 ? hy / h_xy : 0.0;
-  const double cos_theta_h = hz / h_norm, sin_theta_h = h_xy / h_norm;
-  // d = R_y(-theta_h) R_z(-phi_h) i: the incident direction in the half-vector frame.
-  const double tx = geo.sin_theta_i * cos_phi_h, ty = -geo.sin_theta_i * sin_phi_h;
-  const double dx = tx * cos_theta_h - geo.cos_theta_i * sin_theta_h;
-  const double dz = tx * sin_theta_h + geo.cos_theta_i * cos_theta_h;
-  return {h_xy, hz, std::sqrt(dx * dx + ty * ty), dz, ty, dx};
-}
-}  // namespace
-
 HalfDifferenceAngles half_difference_angles(const ScatterGeometry& geo) {
-  const HalfVectorFrame f = half_vector_frame(geo);
-  HalfDifferenceAngles hd;
-  hd.theta_h = std::atan2(f.h_xy, f.hz);
-  hd.theta_d = std::atan2(f.d_xy, f.dz);
-  hd.phi_d = std::abs(std::atan2(f.ty, f.dx));  // mirror symmetry: phi_d and -phi_d are equal
-  return hd;
+  detail::TableAngles angles;  // MERL's half-vector frame, computed once for lookups and this (table_angles_simd.cpp)
+  detail::table_angles(&geo, 1, &angles);
+  return {angles.theta_h, angles.theta_d, angles.phi_d};
 }
 
 ScatterAngles scatter_angles_from_half_difference(const HalfDifferenceAngles& hd) {
@@ -182,110 +146,122 @@ inline double linear_1d(const std::vector<float>& table, double theta_i) {
 
 }  // namespace
 
-// Table coordinates without acos/atan2 calls. Every angle the tables need lies in [0, pi]:
-// angle(y, x) = atan2(y, x) for y >= 0 is written through one arctangent of a ratio in [-1, 1]
-// (ratio_of), and the arctangents of a whole batch come from one vector call (simd_math.h).
+// Per-table constants of the trilinear layouts, hoisted out of the per-query loop.
 namespace {
+struct TrilinearTable {
+  const float* values;
+  std::size_t nodes, n2, n12;
+  int n0, n1, n2_nodes;
+  double scale0, scale1, scale2;  // angle -> index position (theta_h: of its square root unless uniform)
+  bool square_theta_h;
 
-struct PendingAngle {
-  double ratio;   // argument of the arctangent, in [-1, 1]
-  double offset;  // angle = offset + sign * atan(ratio)
-  double sign;
-};
-
-// atan2(y, x) for y >= 0 (angles in [0, pi]).
-inline PendingAngle ratio_of(double y, double x) {
-  if (x >= y) return {x > 0.0 ? y / x : 0.0, 0.0, 1.0};    // [0, pi/4]
-  if (-x >= y) return {y / -x, kPi, -1.0};                   // [3pi/4, pi]
-  return {x / y, 0.5 * kPi, -1.0};                           // (pi/4, 3pi/4)
-}
-
-// The four angles a lookup needs: theta_h, theta_d, phi_d (half/difference frame of
-// half_difference_angles, from the same dot products) and theta_i (for R_spec/K).
-inline void pending_angles(const ScatterGeometry& geo, PendingAngle* out) {
-  const HalfVectorFrame f = half_vector_frame(geo);
-  out[0] = ratio_of(f.h_xy, f.hz);
-  out[1] = ratio_of(f.d_xy, f.dz);
-  out[2] = ratio_of(std::abs(f.ty), f.dx);  // phi_d folded by the mirror symmetry
-  out[3] = ratio_of(geo.sin_theta_i, geo.cos_theta_i);
-}
-
-inline double resolve(const PendingAngle& p, double atan_ratio) { return p.offset + p.sign * atan_ratio; }
-
-}  // namespace
-
-void detail::table_angles(const ScatterGeometry* geos, std::size_t count, TableAngles* out) {
-  constexpr std::size_t kChunk = 256;
-  PendingAngle pending[4 * kChunk];
-  double ratios[4 * kChunk];
-  for (std::size_t begin = 0; begin < count; begin += kChunk) {
-    const std::size_t n = std::min(kChunk, count - begin);
-    for (std::size_t k = 0; k < n; ++k) {
-      pending_angles(geos[begin + k], pending + 4 * k);
-      for (int a = 0; a < 4; ++a) ratios[4 * k + a] = pending[4 * k + a].ratio;
-    }
-    atan_array(ratios, ratios, 4 * n);
-    for (std::size_t k = 0; k < n; ++k) {
-      TableAngles& t = out[begin + k];
-      t.theta_h = resolve(pending[4 * k], ratios[4 * k]);
-      t.theta_d = resolve(pending[4 * k + 1], ratios[4 * k + 1]);
-      t.phi_d = resolve(pending[4 * k + 2], ratios[4 * k + 2]);
-      t.theta_i = resolve(pending[4 * k + 3], ratios[4 * k + 3]);
-    }
+  explicit TrilinearTable(const Lut& lut) {
+    const std::array<double, 3> span = detail::lut_axis_spans(lut.layout, lut.shape);
+    values = lut.values.data();
+    nodes = lut.nodes_per_channel();
+    n0 = lut.shape[0], n1 = lut.shape[1], n2_nodes = lut.shape[2];
+    n2 = n2_nodes, n12 = static_cast<std::size_t>(n1) * n2;
+    // Square map in theta_h, except for the kernel layout (uniform; lut.h).
+    square_theta_h = lut.layout != LutLayout::kernel;
+    scale0 = span[0], scale1 = span[1] / (0.5 * kPi), scale2 = span[2] / kPi;
   }
-}
 
-void detail::lookup_channels(const Lut& lut, const ScatterGeometry& geo, const TableAngles& angles, int first_channel,
-                             int channel_count, double* values) {
-  const std::array<double, 3> span = lut_axis_spans(lut.layout, lut.shape);
-  const std::size_t nodes = lut.nodes_per_channel();
-  if (lut.layout == LutLayout::slice) {  // (theta_h, phi_d) at the slice's theta_d
-    int i0, i1;
-    double t0, t1;
-    split_index(std::sqrt(angles.theta_h / (0.5 * kPi)) * span[0], lut.shape[0], i0, t0);  // square map
-    split_index(angles.phi_d / kPi * span[1], lut.shape[1], i1, t1);
-    const std::size_t n1 = lut.shape[1];
-    for (int c = 0; c < channel_count; ++c) {
-      const float* row0 = lut.values.data() + static_cast<std::size_t>(first_channel + c) * nodes + i0 * n1;
-      const float* row1 = row0 + n1;
-      values[c] = (1.0 - t0) * lerp(row0[i1], row0[i1 + 1], t1) + t0 * lerp(row1[i1], row1[i1 + 1], t1);
-    }
-    return;
+  // Corner offset and fractions of one query.
+  std::size_t locate(const detail::TableAngles& a, double& t0, double& t1, double& t2) const {
+    const double f0 = a.theta_h * (2.0 / kPi);
+    int i0, i1, i2;
+    split_index((square_theta_h ? std::sqrt(f0) : f0) * scale0, n0, i0, t0);
+    split_index(a.theta_d * scale1, n1, i1, t1);
+    split_index(a.phi_d * scale2, n2_nodes, i2, t2);
+    return i0 * n12 + i1 * n2 + i2;
   }
-  int i0, i1, i2;
-  double t0, t1, t2;
-  const double theta_h_fraction = angles.theta_h / (0.5 * kPi);
-  split_index((lut.layout == LutLayout::kernel ? theta_h_fraction : std::sqrt(theta_h_fraction)) * span[0], lut.shape[0], i0, t0);
-  split_index(angles.theta_d / (0.5 * kPi) * span[1], lut.shape[1], i1, t1);
-  split_index(angles.phi_d / kPi * span[2], lut.shape[2], i2, t2);
-  const std::size_t n2 = lut.shape[2], n12 = static_cast<std::size_t>(lut.shape[1]) * n2;
-  const std::size_t corner = i0 * n12 + i1 * n2 + i2;
-  // The factored form's parts that do not depend on the channel's table (kernel layout).
-  const bool kernel = lut.layout == LutLayout::kernel;
-  const double cos_sum = geo.cos_theta_i + geo.cos_theta_s;
-  for (int c = 0; c < channel_count; ++c) {
-    const int channel = first_channel + c;
-    const float* c00 = lut.values.data() + static_cast<std::size_t>(channel) * nodes + corner;
+
+  void prefetch(int channel, std::size_t corner) const {
+    const float* c00 = values + static_cast<std::size_t>(channel) * nodes + corner;
+    __builtin_prefetch(c00);
+    __builtin_prefetch(c00 + n2);
+    __builtin_prefetch(c00 + n12);
+    __builtin_prefetch(c00 + n12 + n2);
+  }
+
+  double interpolate(int channel, std::size_t corner, double t0, double t1, double t2) const {
+    const float* c00 = values + static_cast<std::size_t>(channel) * nodes + corner;
     const float* c01 = c00 + n2;
     const float* c10 = c00 + n12;
     const float* c11 = c10 + n2;
     auto lerp2 = [t2](const float* p) { return lerp(p[0], p[1], t2); };
-    const double table = (1.0 - t0) * ((1.0 - t1) * lerp2(c00) + t1 * lerp2(c01)) + t0 * ((1.0 - t1) * lerp2(c10) + t1 * lerp2(c11));
-    if (!kernel) {
-      values[c] = table;
-      continue;
+    return (1.0 - t0) * ((1.0 - t1) * lerp2(c00) + t1 * lerp2(c01)) + t0 * ((1.0 - t1) * lerp2(c10) + t1 * lerp2(c11));
+  }
+};
+
+// Slice layout: (theta_h, phi_d) at the slice's theta_d, bilinear.
+double slice_value(const Lut& lut, const detail::TableAngles& angles, int channel) {
+  const std::array<double, 3> span = detail::lut_axis_spans(lut.layout, lut.shape);
+  int i0, i1;
+  double t0, t1;
+  split_index(std::sqrt(angles.theta_h / (0.5 * kPi)) * span[0], lut.shape[0], i0, t0);  // square map
+  split_index(angles.phi_d / kPi * span[1], lut.shape[1], i1, t1);
+  const std::size_t n1 = lut.shape[1];
+  const float* row0 = lut.values.data() + static_cast<std::size_t>(channel) * lut.nodes_per_channel() + i0 * n1;
+  const float* row1 = row0 + n1;
+  return (1.0 - t0) * lerp(row0[i1], row0[i1 + 1], t1) + t0 * lerp(row1[i1], row1[i1 + 1], t1);
+}
+
+// Kernel layout: f = K(theta_i) F(theta_d) [closed-form factor] P~ (pi l_c^2/lambda^2) Sigma(g, c)
+// (lut.h), eqs 10-12, with P~ = `table` interpolated from the channel's angular-factor table.
+double kernel_value(const Lut& lut, const ScatterGeometry& geo, const detail::TableAngles& angles, int channel, double table) {
+  const double s = lut.kernel_sigma_over_lambda[channel], l = lut.kernel_lc_over_lambda[channel];
+  const double k_wave = 2.0 * kPi * s * (geo.cos_theta_i + geo.cos_theta_s);
+  AsfArguments args;
+  args.g = k_wave * k_wave;
+  args.prefactor = kPi * l * l;
+  args.c = kPi * args.prefactor * geo.eta_r2;
+  const double asf = asf_auto(args, kKernelTableCertifiedError);
+  const double fresnel = fresnel_reflectance(lut.kernel_index[channel].permittivity(), geo.cos_theta_d);
+  return linear_1d(lut.renormalization[channel], angles.theta_i) * fresnel * detail::kernel_closed_form_factor(lut.kernel_model, geo) *
+         table * asf;
+}
+}  // namespace
+
+void detail::lookup_span(const Lut& lut, const ScatterGeometry* geos, const TableAngles* angles, std::size_t count,
+                         int first_channel, int channel_count, double* values) {
+  if (lut.layout == LutLayout::slice) {
+    for (std::size_t k = 0; k < count; ++k)
+      for (int c = 0; c < channel_count; ++c) values[k * channel_count + c] = slice_value(lut, angles[k], first_channel + c);
+    return;
+  }
+  const TrilinearTable table(lut);
+  const bool kernel = lut.layout == LutLayout::kernel;
+  // Two passes per block: locate every query, then interpolate while the cache lines of a query
+  // a few places ahead are prefetched (random queries miss the cache: 4 lines per channel).
+  constexpr std::size_t kBlock = 64, kAhead = 4;
+  std::size_t corners[kBlock];
+  double fractions[kBlock][3];
+  for (std::size_t begin = 0; begin < count; begin += kBlock) {
+    const std::size_t n = std::min(kBlock, count - begin);
+    for (std::size_t k = 0; k < n; ++k)
+      corners[k] = table.locate(angles[begin + k], fractions[k][0], fractions[k][1], fractions[k][2]);
+    for (std::size_t k = 0; k < n; ++k) {
+      if (k + kAhead < n) {
+        for (int c = 0; c < channel_count; ++c) table.prefetch(first_channel + c, corners[k + kAhead]);
+      }
+      double* out = values + (begin + k) * channel_count;
+      for (int c = 0; c < channel_count; ++c) {
+        const double v = table.interpolate(first_channel + c, corners[k], fractions[k][0], fractions[k][1], fractions[k][2]);
+        out[c] = kernel ? kernel_value(lut, geos[begin + k], angles[begin + k], first_channel + c, v) : v;
+      }
     }
-    // f = K(theta_i) P (pi l_c^2/lambda^2) Sigma(g, c) (lut.h, layout kernel), eqs 10-12.
-    const double s = lut.kernel_sigma_over_lambda[channel], l = lut.kernel_lc_over_lambda[channel];
-    const double k_wave = 2.0 * kPi * s * cos_sum;
-    AsfArguments args;
-    args.g = k_wave * k_wave;
-    args.prefactor = kPi * l * l;
-    args.c = kPi * args.prefactor * geo.eta_r2;
-    const double asf = asf_auto(args, kKernelTableCertifiedError);
-    const double fresnel = fresnel_reflectance(lut.kernel_index[channel].permittivity(), geo.cos_theta_d);
-    values[c] = linear_1d(lut.renormalization[channel], angles.theta_i) * fresnel * kernel_closed_form_factor(lut.kernel_model, geo) *
-                table * asf;
+  }
+}
+
+void detail::lookup_all_span(const Lut& lut, const ScatterGeometry* geos, std::size_t count, double* values) {
+  constexpr std::size_t kBlock = 256;
+  TableAngles angles[kBlock];
+  const int channels = lut.channels();
+  for (std::size_t begin = 0; begin < count; begin += kBlock) {
+    const std::size_t n = std::min(kBlock, count - begin);
+    table_angles(geos + begin, n, angles);
+    lookup_span(lut, geos + begin, angles, n, 0, channels, values + begin * channels);
   }
 }
 
@@ -303,15 +279,11 @@ double Lut::lookup(int channel, const ScatterGeometry& geo) const {
   detail::TableAngles angles;
   detail::table_angles(&geo, 1, &angles);
   double value = 0.0;
-  detail::lookup_channels(*this, geo, angles, channel, 1, &value);
+  detail::lookup_span(*this, &geo, &angles, 1, channel, 1, &value);
   return value;
 }
 
-void Lut::lookup_all(const ScatterGeometry& geo, double* out) const {
-  detail::TableAngles angles;
-  detail::table_angles(&geo, 1, &angles);
-  detail::lookup_channels(*this, geo, angles, 0, channels(), out);
-}
+void Lut::lookup_all(const ScatterGeometry& geo, double* out) const { detail::lookup_all_span(*this, &geo, 1, out); }
 
 double Lut::specular_at(int channel, double theta_i) const {
   if (channel < 0 || channel >= static_cast<int>(specular_reflectance.size()))

@@ -15,8 +15,9 @@ namespace libbrdf::detail {
 // upper end). Slice has span 1 on its unused third axis.
 std::array<double, 3> lut_axis_spans(LutLayout layout, const std::array<int, 3>& shape);
 
-// The angles a table lookup needs, for a batch of geometries, without acos/atan2 calls (lut.cpp):
-// theta_h, theta_d, phi_d of half_difference_angles() and theta_i.
+// The angles a table lookup needs, for a batch of geometries: theta_h, theta_d, phi_d of
+// half_difference_angles() and theta_i, from dot products with one vector arctangent each and no
+// acos/atan2 (SIMD, table_angles_simd.cpp).
 struct TableAngles {
   double theta_h, theta_d, phi_d, theta_i;
 };
@@ -24,9 +25,16 @@ void table_angles(const ScatterGeometry* geos, std::size_t count, TableAngles* o
 // Kernel layout: the closed-form part of the angular factor (F_bk^2 of eq. 26 for bk, 1/S of eq.
 // 28 for bk-modified, 1 otherwise); the table holds the rest.
 double kernel_closed_form_factor(ModelKind model, const ScatterGeometry& geo);
-// Interpolated values of channels [first, first + count) at one geometry with its TableAngles.
-void lookup_channels(const Lut& lut, const ScatterGeometry& geo, const TableAngles& angles, int first_channel,
-                     int channel_count, double* values);
+// Interpolated values of channels [first, first + channel_count) at `count` geometries with their
+// TableAngles: values[k * channel_count + c].
+void lookup_span(const Lut& lut, const ScatterGeometry* geos, const TableAngles* angles, std::size_t count, int first_channel,
+                 int channel_count, double* values);
+inline void lookup_channels(const Lut& lut, const ScatterGeometry& geo, const TableAngles& angles, int first_channel,
+                            int channel_count, double* values) {
+  lookup_span(lut, &geo, &angles, 1, first_channel, channel_count, values);
+}
+// Every channel at `count` geometries (table angles computed here in blocks): values[k * channels + c].
+void lookup_all_span(const Lut& lut, const ScatterGeometry* geos, std::size_t count, double* values);
 
 Direction normalized(const Direction& d);
 
