@@ -1,11 +1,442 @@
-// asf_auto over a batch of queries (mbk_series.h).
-#include "libbrdf/mbk_series.h"
+// asf_auto over a batch of queries (mbk_series.h): the method of each query chosen exactly as
+// asf_auto chooses it, then the queries of each method evaluated together, one query per SIMD lane
+// (Google Highway, run-time dispatch, as series_simd.cpp):
+//  - the series (eq. 11) of each lane from its own largest-term guess, by recurrences between
+//    consecutive (or every d-th) terms: one exp and one division per term, no lgamma or log per
+//    term; the plan, stride rule and geometric tail bound are those of sum_series_blocks;
+//  - the kernel table's bicubic Hermite lookup (kernel_table.h) with gathers.
+// Queries whose closed-form regime (eqs. 14, 15) is possible, and lanes outside the lane kernel's
+// domain, go through asf_auto / mbk_series_sum themselves.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "asf_batch.cpp"
+#include <hwy/foreach_target.h>  // must come before highway.h
+#include <hwy/highway.h>
+#include <hwy/contrib/math/math-inl.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "asf_lanes.h"
+#include "libbrdf/kernel_table.h"
+#include "libbrdf/mbk_series.h"
+#include "series_simd.h"
+#include "series_terms-inl.h"  // LogTerm
+
+HWY_BEFORE_NAMESPACE();
+namespace libbrdf::detail {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+constexpr std::size_t kMaxLanes = HWY_MAX_BYTES / sizeof(double);
+constexpr std::size_t kSubChunk = 512;   // queries planned, sorted and walked together
+constexpr int kMaxLaneTerms = 4096;      // a lane still walking after this many terms is rejected
+// Largest exp argument of a ratio: beyond, t_m / t_{m0} could overflow (a guess far below the
+// mode), and the vector is walked again lane by lane, or rejected.
+constexpr double kMaxLogRatio = 700.0;
+// Unit-stride lanes share m when their guesses differ by at most this much (sorted by the guess).
+constexpr double kMaxSharedSpread = 12.0;
+
+// e^x to ~1e-14 relative for x <= 709 (x < -708 gives ~e^-708, not 0): the range reduction of
+// hn::Exp with its 2^k by an exponent-field add, and the degree-11 Taylor polynomial on
+// |r| <= ln 2 / 2 (error 9e-15). Fewer operations than hn::Exp's full-range version; every
+// ratio of the walks goes through it.
+template <class D, class V = hn::Vec<D>>
+HWY_INLINE V ExpRatio(D d, V x) {
+  const hn::RebindToSigned<D> di;
+  const V shifter = hn::Set(d, 6755399441055744.0);  // 1.5 * 2^52: rounds to an integer in the low bits
+  x = hn::Max(x, hn::Set(d, -708.0));
+  const V shifted = hn::MulAdd(x, hn::Set(d, 1.4426950408889634074), shifter);
+  const V k = hn::Sub(shifted, shifter);
+  // ln 2 in two parts (fdlibm's): k ln2_hi is exact for |k| < 2^20.
+  const V r = hn::NegMulAdd(k, hn::Set(d, 1.90821492927058770002e-10), hn::NegMulAdd(k, hn::Set(d, 6.93147180369123816490e-01), x));
+  const V r2 = hn::Mul(r, r), r4 = hn::Mul(r2, r2), r8 = hn::Mul(r4, r4);
+  auto pair = [&](double a, double b) { return hn::MulAdd(hn::Set(d, b), r, hn::Set(d, a)); };
+  // 1 + r + ... + r^11/11! by Estrin's scheme.
+  const V p01 = pair(1.0, 1.0), p23 = pair(1.0 / 2, 1.0 / 6), p45 = pair(1.0 / 24, 1.0 / 120), p67 = pair(1.0 / 720, 1.0 / 5040);
+  const V p89 = pair(1.0 / 40320, 1.0 / 362880), pab = pair(1.0 / 3628800, 1.0 / 39916800);
+  const V low = hn::MulAdd(r4, hn::MulAdd(r2, p67, p45), hn::MulAdd(r2, p23, p01));
+  const V poly = hn::MulAdd(r8, hn::MulAdd(r2, pab, p89), low);
+  const auto bits = hn::ShiftLeft<52>(hn::Add(hn::BitCast(di, shifted), hn::Set(di, 1023)));
+  return hn::Mul(poly, hn::BitCast(d, bits));
+}
+
+// Queries of one sub-chunk walked together, structure of arrays (padded to whole vectors).
+struct LaneList {
+  alignas(64) double g[kSubChunk + kMaxLanes], c[kSubChunk + kMaxLanes], ln_g[kSubChunk + kMaxLanes],
+      m0[kSubChunk + kMaxLanes], stride[kSubChunk + kMaxLanes], sigma[kSubChunk + kMaxLanes];
+  std::uint16_t key[kSubChunk];
+  std::uint32_t index[kSubChunk];
+  std::size_t size = 0;
+  void push(const LaneList& from, std::size_t k) {
+    g[size] = from.g[k];
+    c[size] = from.c[k];
+    ln_g[size] = from.ln_g[k];
+    m0[size] = from.m0[k];
+    stride[size] = from.stride[k];
+    index[size++] = from.index[k];
+  }
+  // Repeats the last entry up to a whole number of vectors (results of the copies are unused).
+  void pad(std::size_t lanes) {
+    for (std::size_t k = size; k % lanes != 0; ++k) {
+      g[k] = g[size - 1];
+      c[k] = c[size - 1];
+      ln_g[k] = ln_g[size - 1];
+      m0[k] = m0[size - 1];
+      stride[k] = stride[size - 1];
+    }
+  }
+};
+
+// The plan of sum_series_blocks (mbk_series.cpp) per lane: the largest-term guess (mode_guess:
+// Winitzki's closed form of Lambert's W) and the stride rule. *work: the window's extent in
+// strides (the lanes are sorted by it).
+template <class D, class V = hn::Vec<D>>
+HWY_INLINE void PlanLanes(D d, V g, V c, const StrideRule& rule, V* ln_g_out, V* m0, V* stride, V* work) {
+  const V one = hn::Set(d, 1.0), two = hn::Set(d, 2.0);
+  const V ln_g = hn::Log(d, g);
+  // log_ratio(1) = ln g - 2 ln 2 + c/2 < 0: the first term is the largest.
+  const auto first = hn::Lt(hn::MulAdd(hn::Set(d, 0.5), c, hn::Sub(ln_g, hn::Set(d, 1.3862943611198906188))), hn::Zero(d));
+  const V two_c = hn::Mul(two, c);
+  const V q = hn::Div(two_c, hn::Mul(g, g));
+  const V l = hn::Log1p(d, q);
+  const V w = hn::Mul(l, hn::Sub(one, hn::Div(hn::Log1p(d, l), hn::Add(two, l))));
+  // q <= 1e-8: W(q) ~ q, m ~ g.
+  const V guess = hn::IfThenElse(hn::Gt(q, hn::Set(d, 1e-8)), hn::Round(hn::Sqrt(hn::Div(two_c, w))), hn::Round(g));
+  const V m = hn::IfThenElse(first, one, hn::Max(one, guess));
+  // Curvature of ln t_m at the mode: 1/(m + 1/2) - 1/m^2 + 2c/m^3; width = its -1/2 power.
+  const V inv_m = hn::Div(one, m);
+  const V curvature = hn::MulAdd(hn::Mul(two_c, inv_m), hn::Mul(inv_m, inv_m),
+                                 hn::Sub(hn::Div(one, hn::Add(m, hn::Set(d, 0.5))), hn::Mul(inv_m, inv_m)));
+  const V width = hn::Div(one, hn::Sqrt(curvature));
+  const V strided = hn::Floor(hn::Mul(width, hn::Set(d, 1.0 / rule.widths_per_stride)));
+  const auto use = hn::And(hn::And(hn::Gt(m, hn::Set(d, kStrideMinMode)), hn::Ge(strided, two)),
+                           hn::Gt(hn::NegMulAdd(hn::Set(d, rule.clearance_widths), width, m), one));
+  *ln_g_out = ln_g;
+  *m0 = m;
+  *stride = hn::IfThenElse(use, strided, one);
+  *work = hn::IfThenElse(use, hn::Div(width, strided), m);
+}
+
+// Stops a walk where the geometric bound on its remaining tail, t r / (1 - r) with r the last
+// ratio (the terms are log-concave in m: each ratio bounds the later ones), is below budget x sum
+// (as sum_series_blocks); r >= 1 never stops it (t > 0), t = 0 always does.
+template <class D, class V = hn::Vec<D>>
+HWY_INLINE hn::Mask<D> TailDone(D d, V t, V ratio, V sum, V budget) {
+  return hn::Or(hn::Eq(t, hn::Zero(d)), hn::Le(hn::Mul(t, ratio), hn::Mul(hn::Mul(budget, sum), hn::Sub(hn::Set(d, 1.0), ratio))));
+}
+
+// prod_{j=1..s} (m + j) / g per lane (s = the lane's stride <= max_stride): the ratio of Poisson
+// weights e^-g g^m / m! at m and m + s, inverted; each factor is ~1 inside the window.
+template <class D, class V = hn::Vec<D>>
+HWY_INLINE V InversePoissonRatio(D d, V m, V inv_g, V s, double max_stride) {
+  const V one = hn::Set(d, 1.0);
+  V product = hn::Mul(hn::Add(m, one), inv_g);
+  for (double j = 2.0; j <= max_stride; j += 1.0) {
+    const V jv = hn::Set(d, j);
+    product = hn::Mul(product, hn::IfThenElse(hn::Le(jv, s), hn::Mul(hn::Add(m, jv), inv_g), one));
+  }
+  return product;
+}
+
+// Sigma of one vector of lanes, each on its own lattice m0 + k s. The terms
+// t_m = e^-g g^m / (m! m) e^(-c/m) are walked up and down from m0 by their exact ratios
+//   t_{m+s} / t_m = [prod_{j=1..s} g/(m+j)] (m/(m+s)) exp(c s / (m (m+s))),
+// relative to t_{m0} = exp(LogTerm(m0)), each direction until TailDone with 0.45 tol, as in
+// sum_series_blocks. Sets *converged false when a lane needs more than kMaxLaneTerms terms or a
+// ratio overflows.
+template <class D, class V = hn::Vec<D>>
+HWY_INLINE V WalkLanes(D d, V g, V c, V ln_g, V m0, V s, double tol, bool* converged) {
+  const V one = hn::Set(d, 1.0);
+  const V inv_g = hn::Div(one, g), cs = hn::Mul(c, s);
+  const V budget = hn::Set(d, 0.45 * tol);
+  const double max_stride = hn::GetLane(hn::MaxOfLanes(d, s));
+  V sum = one, largest_exponent = hn::Zero(d);
+  // Upward: t_{m+s}/t_m = m^2 Q exp(c s P Q), P = prod (m+j)/g, Q = 1/(m (m+s) P).
+  V m = m0, t = one;
+  auto active = hn::Eq(one, one);
+  for (int terms = 0; !hn::AllFalse(d, active); m = hn::Add(m, s)) {
+    if (++terms > kMaxLaneTerms) *converged = false;
+    if (!*converged) break;
+    const V p = InversePoissonRatio(d, m, inv_g, s, max_stride);
+    const V q = hn::Div(one, hn::Mul(hn::Mul(m, hn::Add(m, s)), p));
+    const V exponent = hn::Mul(cs, hn::Mul(p, q));
+    largest_exponent = hn::Max(largest_exponent, exponent);
+    const V ratio = hn::Mul(hn::Mul(hn::Mul(m, m), q), ExpRatio(d, exponent));
+    t = hn::IfThenElseZero(active, hn::Mul(t, ratio));
+    sum = hn::Add(sum, t);
+    active = hn::AndNot(TailDone(d, t, ratio, sum, budget), active);
+  }
+  // Downward: t_{m-s}/t_m = P' m^2 R exp(-c s R), P' = prod (m-s+j)/g, R = 1/((m-s) m); the
+  // lattice ends at m >= 1.
+  m = m0;
+  t = one;
+  active = hn::Ge(hn::Sub(m0, s), one);
+  for (int terms = 0; !hn::AllFalse(d, active); m = hn::Sub(m, s)) {
+    if (++terms > kMaxLaneTerms) *converged = false;
+    if (!*converged) break;
+    const V below = hn::Sub(m, s);
+    const V p = InversePoissonRatio(d, below, inv_g, s, max_stride);
+    const V r = hn::Div(one, hn::Mul(below, m));
+    const V ratio = hn::Mul(hn::Mul(p, hn::Mul(hn::Mul(m, m), r)), ExpRatio(d, hn::Neg(hn::Mul(cs, r))));
+    t = hn::IfThenElseZero(active, hn::Mul(t, ratio));
+    sum = hn::Add(sum, t);
+    active = hn::AndNot(hn::Or(TailDone(d, t, ratio, sum, budget), hn::Lt(hn::Sub(below, s), one)), active);
+  }
+  if (hn::GetLane(hn::MaxOfLanes(d, largest_exponent)) > kMaxLogRatio) *converged = false;
+  const V log_value = hn::Add(LogTerm(d, m0, g, ln_g, c), hn::Log(d, hn::Mul(sum, s)));
+  // exp underflows below -745 (the scalar sums return 0 there too).
+  return hn::IfThenElseZero(hn::Ge(log_value, hn::Set(d, -745.0)), hn::Exp(d, log_value));
+}
+
+// The same for unit-stride lanes that all walk the same m, from the vector's smallest guess ms up
+// and down: the factors of m are scalars (no division per term), the ratios
+//   t_{m+1} / t_m = g [m/(m+1)^2] exp(c/(m(m+1))),   t_{m-1} / t_m = (1/g) [m^2/(m-1)] exp(-c/(m(m-1))).
+template <class D, class V = hn::Vec<D>>
+HWY_INLINE V WalkSharedM(D d, V g, V c, V ln_g, double ms, double tol, bool* converged) {
+  const V one = hn::Set(d, 1.0), zero = hn::Zero(d);
+  const V inv_g = hn::Div(one, g);
+  const V budget = hn::Set(d, 0.45 * tol);
+  V sum = one, largest_exponent = zero;
+  // Two terms per step, the tail tested after the second: the test's latency (sum, compare,
+  // mask) is paid once per two terms; a lane may sum one term past its stop (a real term).
+  auto up_ratio = [&](double m) {
+    const double q = 1.0 / (m * (m + 1.0));
+    const V exponent = hn::Mul(c, hn::Set(d, q));
+    largest_exponent = hn::Max(largest_exponent, exponent);
+    return hn::Mul(hn::Mul(g, hn::Set(d, m / ((m + 1.0) * (m + 1.0)))), ExpRatio(d, exponent));
+  };
+  V t = one;
+  auto active = hn::Eq(one, one);
+  int terms = 0;
+  for (double m = ms; !hn::AllFalse(d, active); m += 2.0) {
+    if ((terms += 2) > kMaxLaneTerms) {
+      *converged = false;
+      break;
+    }
+    const V r0 = up_ratio(m), r1 = up_ratio(m + 1.0);
+    const V t0 = hn::IfThenElseZero(active, hn::Mul(t, r0));
+    t = hn::Mul(t0, r1);
+    sum = hn::Add(sum, hn::Add(t0, t));
+    active = hn::AndNot(TailDone(d, t, r1, sum, budget), active);
+  }
+  // Down to m = 1: a missing second term (m - 2 < 1) has ratio 0.
+  auto down_ratio = [&](double m) {
+    if (m < 2.0) return zero;
+    const double r = 1.0 / (m * (m - 1.0));
+    return hn::Mul(hn::Mul(inv_g, hn::Set(d, m * m * m * r)), ExpRatio(d, hn::Mul(c, hn::Set(d, -r))));
+  };
+  t = one;
+  active = hn::Eq(one, one);
+  for (double m = ms; m >= 2.0 && !hn::AllFalse(d, active); m -= 2.0) {
+    const V r0 = down_ratio(m), r1 = down_ratio(m - 1.0);
+    const V t0 = hn::IfThenElseZero(active, hn::Mul(t, r0));
+    t = hn::Mul(t0, r1);
+    sum = hn::Add(sum, hn::Add(t0, t));
+    active = hn::AndNot(TailDone(d, t, r1, sum, budget), active);
+  }
+  if (hn::GetLane(hn::MaxOfLanes(d, largest_exponent)) > kMaxLogRatio) *converged = false;
+  const V log_value = hn::Add(LogTerm(d, hn::Set(d, ms), g, ln_g, c), hn::Log(d, sum));
+  return hn::IfThenElseZero(hn::Ge(log_value, hn::Set(d, -745.0)), hn::Exp(d, log_value));
+}
+
+// Walks a list in whole vectors (shared m where the guesses are close, else lane by lane); lanes
+// with a non-finite result or no convergence are rejected.
+std::size_t WalkList(LaneList& list, double tol, bool unit_stride, std::uint32_t* rejected) {
+  const hn::ScalableTag<double> d;
+  using V = hn::Vec<decltype(d)>;
+  const std::size_t n = hn::Lanes(d);
+  if (list.size == 0) return 0;
+  list.pad(n);
+  std::size_t count = 0;
+  for (std::size_t k = 0; k < list.size; k += n) {
+    const V g = hn::Load(d, list.g + k), c = hn::Load(d, list.c + k), ln_g = hn::Load(d, list.ln_g + k);
+    const V m0 = hn::Load(d, list.m0 + k);
+    bool converged = true;
+    V sigma;
+    const double ms = hn::GetLane(hn::MinOfLanes(d, m0));
+    if (unit_stride && hn::GetLane(hn::MaxOfLanes(d, m0)) - ms <= kMaxSharedSpread) {
+      sigma = WalkSharedM(d, g, c, ln_g, ms, tol, &converged);
+      if (!converged) converged = true;  // a lane far above ms: its own guess instead
+      else goto done;
+    }
+    sigma = WalkLanes(d, g, c, ln_g, m0, hn::Load(d, list.stride + k), tol, &converged);
+  done:
+    hn::Store(sigma, d, list.sigma + k);
+    for (std::size_t lane = k; lane < std::min(k + n, list.size); ++lane)
+      if (!converged || !std::isfinite(list.sigma[lane])) rejected[count++] = list.index[lane];
+  }
+  return count;
+}
+
+// Entries of `from` with key < buckets appended to `to` in key order (counting sort).
+void SortedAppend(const LaneList& from, std::size_t buckets, std::uint16_t first_key, LaneList& to) {
+  std::uint16_t start[kSubChunk + 1] = {};
+  for (std::size_t k = 0; k < from.size; ++k)
+    if (from.key[k] >= first_key && from.key[k] < first_key + buckets) ++start[from.key[k] - first_key + 1];
+  for (std::size_t b = 1; b <= buckets; ++b) start[b] += start[b - 1];
+  std::uint16_t order[kSubChunk];
+  for (std::size_t k = 0; k < from.size; ++k)
+    if (from.key[k] >= first_key && from.key[k] < first_key + buckets) order[start[from.key[k] - first_key]++] = static_cast<std::uint16_t>(k);
+  for (std::size_t k = 0; k < start[buckets - 1]; ++k) to.push(from, order[k]);
+}
+
+std::size_t SeriesQueryLanes(const double* g, const double* c, std::size_t count, double tol, double* sigma,
+                             std::uint32_t* rejected) {
+  const hn::ScalableTag<double> d;
+  const std::size_t n = hn::Lanes(d);
+  const StrideRule rule = stride_rule(tol);
+  std::size_t rejected_count = 0;
+  static thread_local LaneList all, unit, strided;  // ~50 KB each: kept off the stack
+  constexpr std::uint16_t kUnitKeys = 256, kStridedKeys = 64;
+  for (std::size_t begin = 0; begin < count; begin += kSubChunk) {
+    const std::size_t size = std::min(kSubChunk, count - begin);
+    std::copy(g + begin, g + begin + size, all.g);
+    std::copy(c + begin, c + begin + size, all.c);
+    for (std::size_t k = size; k % n != 0; ++k) all.g[k] = 1.0, all.c[k] = 0.0;
+    alignas(64) double work[kSubChunk + kMaxLanes];
+    for (std::size_t k = 0; k < size; k += n) {
+      hn::Vec<decltype(d)> ln_g, m0, stride, w;
+      PlanLanes(d, hn::Load(d, all.g + k), hn::Load(d, all.c + k), rule, &ln_g, &m0, &stride, &w);
+      hn::Store(ln_g, d, all.ln_g + k);
+      hn::Store(m0, d, all.m0 + k);
+      hn::Store(stride, d, all.stride + k);
+      hn::Store(w, d, work + k);
+    }
+    // Keys: unit-stride lanes by their guess (they share m), strided lanes by their extent in
+    // strides (the walk of a vector lasts as long as its longest lane); too wide: rejected.
+    all.size = size;
+    for (std::size_t k = 0; k < size; ++k) {
+      all.index[k] = static_cast<std::uint32_t>(begin + k);
+      if (all.stride[k] == 1.0) {
+        all.key[k] = static_cast<std::uint16_t>(std::min(all.m0[k], kUnitKeys - 1.0));
+      } else if (all.stride[k] <= kLaneMaxStride) {
+        all.key[k] = static_cast<std::uint16_t>(kUnitKeys + std::min(16.0 * (work[k] - 2.0), kStridedKeys - 1.0));
+      } else {
+        all.key[k] = kUnitKeys + kStridedKeys;
+        rejected[rejected_count++] = all.index[k];
+      }
+    }
+    unit.size = strided.size = 0;
+    SortedAppend(all, kUnitKeys, 0, unit);
+    SortedAppend(all, kStridedKeys, kUnitKeys, strided);
+    rejected_count += WalkList(unit, tol, true, rejected + rejected_count);
+    rejected_count += WalkList(strided, tol, false, rejected + rejected_count);
+    for (const LaneList* list : {&unit, &strided})
+      for (std::size_t k = 0; k < list->size; ++k) sigma[list->index[k]] = list->sigma[k];
+  }
+  return rejected_count;
+}
+
+// Bicubic Hermite interpolation of ln Sigma (KernelTable::sigma) with one query per lane.
+void KernelTableLanes(const double* nodes, int nx, int nz, double x_min, double dx, double dz, const double* g,
+                      const double* c, std::size_t count, double* sigma) {
+  const hn::ScalableTag<double> d;
+  const hn::RebindToSigned<decltype(d)> di;
+  using V = hn::Vec<decltype(d)>;
+  const std::size_t n = hn::Lanes(d);
+  const V one = hn::Set(d, 1.0), two = hn::Set(d, 2.0), three = hn::Set(d, 3.0);
+  const V vdx = hn::Set(d, dx), vdz = hn::Set(d, dz);
+  alignas(64) double gb[kMaxLanes], cb[kMaxLanes], out[kMaxLanes];
+  for (std::size_t k = 0; k < count; k += n) {
+    const std::size_t m = std::min(n, count - k);
+    for (std::size_t j = 0; j < n; ++j) gb[j] = j < m ? g[k + j] : 1.0, cb[j] = j < m ? c[k + j] : 0.0;
+    const V vg = hn::Load(d, gb), vc = hn::Load(d, cb);
+    const V ux = hn::Div(hn::Sub(hn::Log(d, vg), hn::Set(d, x_min)), vdx);
+    const V uz = hn::Div(hn::Sqrt(hn::Div(vc, hn::Add(vg, one))), vdz);
+    const V fi = hn::Min(hn::Floor(ux), hn::Set(d, nx - 2.0)), fj = hn::Min(hn::Floor(uz), hn::Set(d, nz - 2.0));
+    const V s = hn::Sub(ux, fi), t = hn::Sub(uz, fj);
+    const auto base = hn::ConvertTo(di, hn::Mul(hn::Set(d, 4.0), hn::MulAdd(fi, hn::Set(d, nz), fj)));
+    // Cubic Hermite basis: values h0, h1; derivatives (times the cell size) d0, d1.
+    const V s2 = hn::Mul(s, s), t2 = hn::Mul(t, t);
+    const V hx1 = hn::Mul(s2, hn::NegMulAdd(two, s, three)), hx0 = hn::Sub(one, hx1);
+    const V gx0 = hn::Mul(hn::Mul(s, hn::Mul(hn::Sub(s, one), hn::Sub(s, one))), vdx);
+    const V gx1 = hn::Mul(hn::Mul(s2, hn::Sub(s, one)), vdx);
+    const V hz1 = hn::Mul(t2, hn::NegMulAdd(two, t, three)), hz0 = hn::Sub(one, hz1);
+    const V gz0 = hn::Mul(hn::Mul(t, hn::Mul(hn::Sub(t, one), hn::Sub(t, one))), vdz);
+    const V gz1 = hn::Mul(hn::Mul(t2, hn::Sub(t, one)), vdz);
+    const V hx[2] = {hx0, hx1}, gx[2] = {gx0, gx1}, hz[2] = {hz0, hz1}, gz[2] = {gz0, gz1};
+    V f = hn::Zero(d);
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b) {
+        const auto index = hn::Add(base, hn::Set(di, 4 * (a * nz + b)));
+        const V f0 = hn::GatherIndex(d, nodes, index), fx = hn::GatherIndex(d, nodes + 1, index);
+        const V fz = hn::GatherIndex(d, nodes + 2, index), fxz = hn::GatherIndex(d, nodes + 3, index);
+        f = hn::MulAdd(hx[a], hn::MulAdd(hz[b], f0, hn::Mul(gz[b], fz)), f);
+        f = hn::MulAdd(gx[a], hn::MulAdd(hz[b], fx, hn::Mul(gz[b], fxz)), f);
+      }
+    hn::Store(hn::Exp(d, f), d, out);
+    std::copy(out, out + m, sigma + k);
+  }
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace libbrdf::detail
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
 namespace libbrdf {
+namespace detail {
+HWY_EXPORT(SeriesQueryLanes);
+HWY_EXPORT(KernelTableLanes);
+
+std::size_t series_query_lanes(const double* g, const double* c, std::size_t count, double relative_tolerance,
+                               double* sigma, std::uint32_t* rejected) {
+  return HWY_DYNAMIC_DISPATCH(SeriesQueryLanes)(g, c, count, relative_tolerance, sigma, rejected);
+}
+
+void kernel_table_lanes(const double* nodes, int nx, int nz, double x_min, double dx, double dz, const double* g,
+                        const double* c, std::size_t count, double* sigma) {
+  HWY_DYNAMIC_DISPATCH(KernelTableLanes)(nodes, nx, nz, x_min, dx, dz, g, c, count, sigma);
+}
+}  // namespace detail
 
 void asf_auto_batch(const double* g, const double* c, std::size_t count, double prefactor, double tolerance,
                     const SeriesOptions& options, double* asf_out) {
-  for (std::size_t k = 0; k < count; ++k) asf_out[k] = asf_auto(AsfArguments{g[k], c[k], prefactor}, tolerance, nullptr, options);
+  auto scalar = [&](std::size_t k) { asf_out[k] = asf_auto(AsfArguments{g[k], c[k], prefactor}, tolerance, nullptr, options); };
+  if (options.method != SeriesMethod::simd) {  // the reference methods: query by query
+    for (std::size_t k = 0; k < count; ++k) scalar(k);
+    return;
+  }
+  // asf_auto's series truncation, and which batch kernels apply.
+  SeriesOptions series = options;
+  if (tolerance > 0.0) series.relative_tolerance = std::max(options.relative_tolerance, 0.1 * tolerance);
+  const bool lanes = series.relative_tolerance >= detail::kLaneMinTolerance;
+  const KernelTable* table = tolerance >= kKernelTableCertifiedError ? &KernelTable::instance() : nullptr;
+  constexpr std::size_t kChunk = 1024;
+  alignas(64) double table_g[kChunk], table_c[kChunk], table_sigma[kChunk], series_g[kChunk], series_c[kChunk],
+      series_sigma[kChunk];
+  std::uint32_t table_index[kChunk], series_index[kChunk], rejected[kChunk];
+  for (std::size_t begin = 0; begin < count; begin += kChunk) {
+    const std::size_t end = std::min(count, begin + kChunk);
+    std::size_t tables = 0, sums = 0;
+    for (std::size_t k = begin; k < end; ++k) {
+      const double gk = g[k], ck = c[k];
+      // asf_auto's order: closed forms, table, series. A closed form is possible only where its
+      // error estimate's leading term is below the tolerance (polished >= g; rough >= 2/g^2):
+      // those queries go through asf_auto itself, so the choice is asf_auto's, bit for bit.
+      const bool closed_form = tolerance > 0.0 && ((gk > 0.0 && gk < 0.5 && gk < tolerance) || (gk > 50.0 && 2.0 / (gk * gk) < tolerance));
+      if (closed_form) {
+        scalar(k);
+      } else if (table && table->contains(gk, ck)) {
+        table_g[tables] = gk, table_c[tables] = ck, table_index[tables++] = static_cast<std::uint32_t>(k);
+      } else if (lanes && gk >= detail::kLaneMinG && gk <= detail::kLaneMaxG && ck >= 0.0 && ck <= detail::kLaneMaxC) {
+        series_g[sums] = gk, series_c[sums] = ck, series_index[sums++] = static_cast<std::uint32_t>(k);
+      } else {
+        scalar(k);
+      }
+    }
+    if (tables > 0) {
+      table->sigma_many(table_g, table_c, tables, table_sigma);
+      for (std::size_t j = 0; j < tables; ++j) asf_out[table_index[j]] = prefactor * table_sigma[j];
+    }
+    if (sums > 0) {
+      const std::size_t left = detail::series_query_lanes(series_g, series_c, sums, series.relative_tolerance, series_sigma, rejected);
+      for (std::size_t j = 0; j < left; ++j) series_sigma[rejected[j]] = mbk_series_sum(series_g[rejected[j]], series_c[rejected[j]], series);
+      for (std::size_t j = 0; j < sums; ++j) asf_out[series_index[j]] = prefactor * series_sigma[j];
+    }
+  }
 }
 
 }  // namespace libbrdf
+#endif

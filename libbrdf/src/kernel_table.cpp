@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "asf_lanes.h"
 #include "poisson.h"
 
 namespace libbrdf {
@@ -82,6 +83,10 @@ double KernelTable::sigma(double g, double c) const {
     }
   }
   return std::exp(f);
+}
+
+void KernelTable::sigma_many(const double* g, const double* c, std::size_t count, double* sigma) const {
+  detail::kernel_table_lanes(nodes_.data(), nx_, nz_, x_min_, dx_, dz_, g, c, count, sigma);
 }
 
 }  // namespace libbrdf

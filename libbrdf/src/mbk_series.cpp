@@ -153,7 +153,8 @@ double mode_guess(double g, double c) {
   return std::max(1.0, std::round(std::sqrt(2.0 * c / w)));
 }
 
-// The plan of the SIMD summation: window start, stride, truncation tolerance.
+}  // namespace
+
 // Stride: the strided sum d * sum_k t(m0 + k d) differs from the full sum by the aliases of the
 // terms' Fourier transform (Poisson summation), ~2 exp(-2 pi^2 (s/d)^2) for a window of standard
 // deviation s; d is chosen so that this is below tol/10, and only where the window lies clear
@@ -162,6 +163,14 @@ double mode_guess(double g, double c) {
 // Widths per stride at least: skewed windows alias more than the Gaussian estimate says (the
 // sweeps of tests/cpp/test_kernel_table.cpp hold with this floor).
 constexpr double kMinWidthPerStride = 2.0;
+detail::StrideRule detail::stride_rule(double relative_tolerance) {
+  const double log_budget = std::log(20.0 / relative_tolerance);
+  return StrideRule{std::max(kMinWidthPerStride, std::sqrt(log_budget / (2.0 * kPi * kPi))), std::sqrt(2.0 * log_budget) + 1.0};
+}
+
+namespace {
+
+// The plan of the SIMD summation: window start, stride (detail::stride_rule), truncation tolerance.
 detail::SeriesPlan series_plan(double g, double c, double relative_tolerance, bool allow_stride) {
   detail::SeriesPlan plan;
   plan.g = g;
@@ -169,18 +178,13 @@ detail::SeriesPlan series_plan(double g, double c, double relative_tolerance, bo
   plan.mode = mode_guess(g, c);
   plan.relative_tolerance = relative_tolerance;
   const double m = plan.mode;
-  if (allow_stride && m > 16.0) {
+  if (allow_stride && m > detail::kStrideMinMode) {
     // Curvature of ln t_m at the mode: psi'(m+1) - 1/m^2 + 2c/m^3, psi'(m+1) ~ 1/(m + 1/2).
     const double curvature = 1.0 / (m + 0.5) - 1.0 / (m * m) + 2.0 * c / (m * m * m);
     const double width = 1.0 / std::sqrt(curvature);
-    // s/d needed; at least kMinWidthPerStride, since skewed windows (large c/m) alias more than
-    // the Gaussian estimate says.
-    const double log_budget = std::log(20.0 / relative_tolerance);
-    const double ratio = std::max(kMinWidthPerStride, std::sqrt(log_budget / (2.0 * kPi * kPi)));
-    const double stride = std::floor(width / ratio);
-    // The cut-off at m = 1 must lie where the (near-Gaussian) terms are below tol/20 of the peak.
-    const double clearance = std::sqrt(2.0 * log_budget) + 1.0;
-    if (stride >= 2.0 && m - clearance * width > 1.0) plan.stride = stride;
+    const detail::StrideRule rule = detail::stride_rule(relative_tolerance);
+    const double stride = std::floor(width / rule.widths_per_stride);
+    if (stride >= 2.0 && m - rule.clearance_widths * width > 1.0) plan.stride = stride;
   }
   return plan;
 }

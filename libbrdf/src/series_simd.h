@@ -12,6 +12,16 @@ struct SeriesPlan {
   double relative_tolerance = 1e-14;  // geometric tail bound: dropped tail <= tol * sum
 };
 
+// The stride rule of the plan (mbk_series.cpp): windows whose largest term lies above
+// kStrideMinMode are summed every d-th term, d = floor(width / widths_per_stride) (width: the
+// terms' standard deviation in m), where d >= 2 and the window clears m = 1 by clearance_widths.
+// Aliasing <= tol/10, the tail cut at tol/20 of the peak at m = 1.
+inline constexpr double kStrideMinMode = 16.0;
+struct StrideRule {
+  double widths_per_stride, clearance_widths;
+};
+StrideRule stride_rule(double relative_tolerance);
+
 struct SeriesBlockStats {
   long long blocks = 0;  // SIMD blocks evaluated (each series_lanes() terms)
 };

@@ -3,6 +3,7 @@
 // (g < 0.025 polished, g > 800 very rough; measured and printed, not asserted).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <random>
@@ -305,6 +306,81 @@ INSTANTIATE_TEST_SUITE_P(Tolerances, AutoRegime, testing::Values(1e-6, 1e-4, 1e-
                            return param_info.param == 1e-6 ? std::string("Tol1e6")
                                                            : param_info.param == 1e-4 ? "Tol1e4" : "Tol1e2";
                          });
+
+// asf_auto_batch against the long-double reference and against asf_auto query by query, at the
+// default tolerance and the kernel table's. Grid: g log-spaced over [1e-8, 1e7] plus 0; c = 0,
+// log-spaced over [1e-6, 1e7], and u g with u in [1e-3, 30] (a rough surface's lobe), the whole
+// grid in one shuffled batch (the batch sorts and packs queries of every regime into lanes).
+// Method choice: where asf_auto takes a closed form the batch is bit-identical (it calls it);
+// elsewhere both are the same method, so they agree well inside the tolerance: the table to
+// rounding, two series truncated at tolerance/10 to tolerance/5 -- a table value where asf_auto
+// sums the series (or the reverse) would differ by up to the table's certified 1e-4.
+void check_batch_against_reference(double tolerance) {
+  std::vector<double> g_values, c_values;
+  std::vector<double> gs = logspace(1e-8, 1e7, 61);
+  gs.push_back(0.0);
+  for (double g : gs) {
+    std::vector<double> cs{0.0};
+    for (double c : logspace(1e-6, 1e7, 27)) cs.push_back(c);
+    for (double u : logspace(1e-3, 30.0, 9)) cs.push_back(u * g);
+    for (double c : cs) g_values.push_back(g), c_values.push_back(c);
+  }
+  std::vector<std::size_t> order(g_values.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::shuffle(order.begin(), order.end(), std::mt19937_64(5));
+  std::vector<double> g(order.size()), c(order.size()), batch(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) g[k] = g_values[order[k]], c[k] = c_values[order[k]];
+  const double prefactor = 3.0;
+  asf_auto_batch(g.data(), c.data(), g.size(), prefactor, tolerance, SeriesOptions{}, batch.data());
+  double worst = 0.0, worst_vs_scalar = 0.0;
+  int compared = 0;
+  const char* names[] = {"series", "polished", "rough", "table"};
+  for (std::size_t k = 0; k < g.size(); ++k) {
+    ASSERT_TRUE(std::isfinite(batch[k]) && batch[k] >= 0.0) << "g=" << g[k] << " c=" << c[k] << ": " << batch[k];
+    AsfRegime regime;
+    const double scalar = asf_auto(AsfArguments{g[k], c[k], prefactor}, tolerance, &regime);
+    const double agreement = regime == AsfRegime::series ? tolerance / 5 : regime == AsfRegime::table ? 1e-12 : 0.0;
+    const double vs_scalar = scalar > 0.0 ? std::fabs(batch[k] - scalar) / scalar : batch[k];
+    worst_vs_scalar = std::max(worst_vs_scalar, vs_scalar);
+    EXPECT_LE(vs_scalar, agreement) << names[static_cast<int>(regime)] << " chosen by asf_auto at g=" << g[k] << " c=" << c[k]
+                                    << ": batch " << batch[k] << ", asf_auto " << scalar;
+    const long double log_ref = libbrdf_test::windowed_log_series(g[k], c[k], 45);
+    if (log_ref < std::log(kUnderflow)) {
+      EXPECT_LE(batch[k], 1e-280) << "reference underflows at g=" << g[k] << " c=" << c[k];
+      continue;
+    }
+    const double ref = prefactor * static_cast<double>(std::exp(log_ref));
+    const double rel = std::fabs(batch[k] - ref) / ref;
+    worst = std::max(worst, rel);
+    ++compared;
+    EXPECT_LT(rel, tolerance) << names[static_cast<int>(regime)] << " at g=" << g[k] << " c=" << c[k] << ": batch "
+                              << batch[k] << ", reference " << ref;
+  }
+  EXPECT_GT(compared, 1500);
+  std::cout << "[ measured ] asf_auto_batch tol " << tolerance << ": max relative error " << worst << " over " << compared
+            << " points; max difference from asf_auto " << worst_vs_scalar << "\n";
+}
+
+TEST(AsfAutoBatch, WithinToleranceAndSameMethodAsScalar_1e6) { check_batch_against_reference(1e-6); }
+TEST(AsfAutoBatch, WithinToleranceAndSameMethodAsScalar_1e4) { check_batch_against_reference(1e-4); }
+
+// The reference methods and tolerance 0 go through asf_auto query by query: bit-identical.
+TEST(AsfAutoBatch, ReferenceMethodsAndToleranceZeroAreAsfAuto) {
+  const double g[] = {1e-3, 0.7, 5.0, 80.0, 2e4}, c[] = {0.5, 3.0, 40.0, 100.0, 1e3};
+  double out[5];
+  for (SeriesMethod method : {SeriesMethod::every_term, SeriesMethod::strided, SeriesMethod::simd}) {
+    SeriesOptions options;
+    options.method = method;
+    for (double tolerance : {0.0, 1e-6}) {
+      asf_auto_batch(g, c, 5, 2.0, tolerance, options, out);
+      for (int k = 0; k < 5; ++k) {
+        const double scalar = asf_auto(AsfArguments{g[k], c[k], 2.0}, tolerance, nullptr, options);
+        if (method != SeriesMethod::simd || tolerance == 0.0) EXPECT_EQ(out[k], scalar) << "g=" << g[k];
+        else EXPECT_NEAR(out[k], scalar, 2e-7 * scalar) << "g=" << g[k];
+      }
+    }
+  }
+}
 
 // The paper (after Krywonos) calls a surface polished for g < 0.025 and very rough for g > 800,
 // "less than 1% error ... when theta_i <= 70 deg". Measured here over the lobe (ASF values above

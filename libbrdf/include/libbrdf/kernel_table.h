@@ -43,6 +43,9 @@ class KernelTable {
   bool contains(double g, double c) const;
   // Sigma(g, c) by bicubic Hermite interpolation of ln Sigma; only for contains(g, c).
   double sigma(double g, double c) const;
+  // sigma[k] = sigma(g[k], c[k]) for k < count, one query per SIMD lane (gathers); the same
+  // interpolation up to rounding. Every (g[k], c[k]) must be inside (contains).
+  void sigma_many(const double* g, const double* c, std::size_t count, double* sigma) const;
 
   int nx() const { return nx_; }
   int nz() const { return nz_; }

@@ -1,0 +1,32 @@
+#pragma once
+// Internal: the batch kernels of asf_auto_batch (asf_batch.cpp), one query per SIMD lane.
+#include <cstddef>
+#include <cstdint>
+
+namespace libbrdf::detail {
+
+// The per-lane series handles truncation tolerances from this up (its recurrences lose ~(d + 10)
+// eps per term; the rest goes to sum_series_blocks).
+inline constexpr double kLaneMinTolerance = 1e-12;
+// ... and g in [kLaneMinG, kLaneMaxG], c in [0, kLaneMaxC] (outside: sum_series_blocks).
+inline constexpr double kLaneMinG = 1e-100;
+inline constexpr double kLaneMaxG = 1e6;
+inline constexpr double kLaneMaxC = 1e100;
+// Widest stride summed in lanes: beyond, the d factors of the Poisson ratio per term cost more
+// than sum_series_blocks' terms across lanes (windows of width >~ 32, g >~ 1000).
+inline constexpr double kLaneMaxStride = 16.0;
+
+// sigma[k] = Sigma(g[k], c[k]) of eq. 11 (mbk_series.h) truncated at relative_tolerance, with the
+// plan (largest-term guess, stride rule) and geometric tail bound of sum_series_blocks. Returns the
+// number of queries it leaves to the caller, their indices in rejected[] (stride above
+// kLaneMaxStride, or a lane that did not converge): sigma[k] is not written for those.
+// Preconditions: the domain above, relative_tolerance >= kLaneMinTolerance.
+std::size_t series_query_lanes(const double* g, const double* c, std::size_t count, double relative_tolerance,
+                               double* sigma, std::uint32_t* rejected);
+
+// The kernel table's bicubic Hermite lookup (kernel_table.h) in lanes: sigma[k] = exp(F(ln g, z)).
+// nodes: 4 doubles per node (F, F_x, F_z, F_xz), node (i, j) at 4 (i nz + j); every (g, c) inside.
+void kernel_table_lanes(const double* nodes, int nx, int nz, double x_min, double dx, double dz, const double* g,
+                        const double* c, std::size_t count, double* sigma);
+
+}  // namespace libbrdf::detail
