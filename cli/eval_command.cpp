@@ -82,7 +82,7 @@ void register_eval(CLI::App& app, ActionTable& actions) {
     try {
       libbrdf::evaluate_batch(model, angles.data(), angles.size(), values.data());
     } catch (const libbrdf::InvalidQuery& e) {
-      throw libbrdf::InvalidArgument(e.parameter(), queries[e.index()].origin + ": " + e.reason());
+      throw libbrdf::InvalidArgument(e.parameter(), queries[e.index()].origin() + ": " + e.reason());
     }
     std::size_t next = 0;  // write_evaluations visits the queries in order
     write_evaluations(std::cout, queries, [&](const libbrdf::ScatterAngles&) { return values[next++]; });

@@ -13,7 +13,9 @@ namespace brdf_cli {
 
 struct Query {
   double theta_i_deg, theta_s_deg, phi_s_deg;
-  std::string origin;  // "--at #2" or "line 5", for error messages
+  int number;    // --at option (1-based) or CSV line number
+  bool from_at;
+  std::string origin() const;  // "--at #2" or "line 5", for error messages
 };
 
 // Longest CSV query line accepted (characters, without the newline).
@@ -26,7 +28,8 @@ inline constexpr std::size_t kMaxQueryLineLength = 4096;
 // or on a directory.
 std::vector<Query> read_queries(const std::vector<std::string>& at_values, const std::string& queries_source);
 
-// Evaluates each query (angles validated per query, errors name the query) and writes the CSV.
+// Evaluates each query (angles validated per query, errors name the query) and writes the CSV
+// (std::to_chars: the digits of printf's %.17g).
 void write_evaluations(std::ostream& out, const std::vector<Query>& queries,
                        const std::function<double(const libbrdf::ScatterAngles&)>& evaluate);
 
