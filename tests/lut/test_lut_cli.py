@@ -115,15 +115,18 @@ class Bake(unittest.TestCase):
     def test_kernel_layout_is_small_and_accurate_from_polished_to_rough(self):
         """--layout kernel (issue 9): K F P~ Sigma with the universal Sigma(g, c) table. Checked from
         outside at independent random points (theta <= 85 deg, values >= 1e-3 of the largest) for
-        the renderer issue's surfaces, n = 1.5 + 1i: the table agrees with `eval --model` to 2e-3
-        (measured 0.6e-3 to 1.6e-3 by the bake) and its nodes take <= 2 MB for 3 channels."""
-        for sigma, lc in [("0.02", "2"), ("0.2", "2"), ("1.0", "5")]:
-            surface = ["--model", "mbk", "--n", "1.5", "--k", "1", "--sigma-s", sigma, "--lc", lc]
-            out_path = self.path("kernel_%s.exr" % sigma)
+        the renderer issue's surfaces, n = 1.5 + 1i, and a rough gold-like metal (n = 0.18 + 3.4i):
+        the table agrees with `eval --model` to 1e-3 (issue 9; measured <= 1.4e-4 for the first
+        three, 3.7e-4 for the metal, with the cubic P~ reader) and its nodes take <= 2 MB for 3
+        channels."""
+        for sigma, lc, n, k in [("0.02", "2", "1.5", "1"), ("0.2", "2", "1.5", "1"), ("1.0", "5", "1.5", "1"),
+                                ("0.5", "3", "0.18", "3.4")]:
+            surface = ["--model", "mbk", "--n", n, "--k", k, "--sigma-s", sigma, "--lc", lc]
+            out_path = self.path("kernel_%s_%s.exr" % (sigma, n))
             rc, out, err = run(["bake"] + surface + ["--layout", "kernel", "-o", out_path])
             self.assertEqual(rc, 0, err)
             claimed, _ = claimed_error(out)
-            self.assertLess(claimed, 2e-3, out)
+            self.assertLess(claimed, 1e-3, out)
             spec = oiio.ImageInput.open(out_path).spec()
             self.assertLessEqual(spec.width * spec.height * spec.nchannels * 4, 2_000_000)
             angles = random_angles(600, 85.0, 7)
@@ -133,7 +136,7 @@ class Bake(unittest.TestCase):
                 keep = model >= 1e-3 * model.max()
                 self.assertGreater(keep.sum(), 100)
                 worst = np.max(np.abs(table[keep] - model[keep]) / model[keep])
-                self.assertLess(worst, 2e-3, "sigma_s %s channel %d" % (sigma, channel))
+                self.assertLess(worst, 1e-3, "sigma_s %s n %s channel %d" % (sigma, n, channel))
 
     def test_exr_layout_as_documented(self):
         out_path = self.path("layout.exr")
