@@ -10,7 +10,9 @@
 //                  SeriesMethod::every_term (mbk for the mbk fast paths and mbk-polished/-rough),
 //                  over values >= floor = 1e-3 x the reference's largest value on the set.
 // Rows of kind fast_path include the ASF alone (series SIMD, kernel table, the landed scalar
-// strided series); kind lut3 times 3-channel lookups; kind bake the MERL-size bake (all threads).
+// strided series) and the ASF through the batch API (asf_auto_batch, one query per SIMD lane, with
+// speed_vs_landed: its rate over the per-query row above it, same run); kind lut3 times 3-channel
+// lookups; kind bake the MERL-size bake (all threads).
 // Slice tables are checked on their own set (geometries of a sun + orthographic camera scene).
 // Writes DIR/bench.csv and DIR/bench.png (tools/plot_bench.py, run with /usr/bin/python3).
 #include <spawn.h>
@@ -36,6 +38,7 @@
 #include "libbrdf/kernel_table.h"
 #include "libbrdf/lut.h"
 #include "libbrdf/materials.h"
+#include "libbrdf/mbk_series.h"
 #include "libbrdf/models.h"
 
 extern char** environ;
@@ -68,6 +71,7 @@ struct Row {
   std::string kind, model, surface, variant, layout, shape;
   double nodes = 0, evals_per_s = 0, speed_ratio = 0, max_rel_error = 0, rms_rel_error = 0, floor = 0;
   double bytes = 0;  // tables: bytes of the per-material data (float32 nodes + side tables)
+  double speed_vs_landed = 0;  // batch rows: evals_per_s / that of the per-query path it replaces (same run)
   int samples = 0;
 };
 
@@ -195,7 +199,9 @@ class Bench {
     // The ASF alone (eq. 11, K = 1): the series, the kernel table, and the landed method.
     ModelParameters asf_series = gold(s);
     add_model_row("fast_path", ModelKind::asf, s, asf_series, "series SIMD tol 1e-6 (default)");
+    add_asf_batch_row(s, asf_series.tolerance, "batch: series in lanes tol 1e-6");
     add_model_row("fast_path", ModelKind::asf, s, table, "kernel table tol 1e-4");
+    add_asf_batch_row(s, table.tolerance, "batch: kernel table in lanes tol 1e-4");
     ModelParameters asf_landed = reference_parameters(s);
     asf_landed.series.method = libbrdf::SeriesMethod::strided;
     add_model_row("fast_path", ModelKind::asf, s, asf_landed, "series strided scalar (landed method; tol 0)");
@@ -281,6 +287,41 @@ class Bench {
     rows_.push_back(row);
   }
 
+  // The ASF through the batch API (asf_auto_batch: queries in SIMD lanes) over the whole set on
+  // one thread, g and c derived from the geometries inside the timing; speed_vs_landed against the
+  // row just before it (the same tolerance query by query through Model::evaluate).
+  void add_asf_batch_row(const BenchSurface& s, double tolerance, const std::string& variant) {
+    Reference& ref = reference(ModelKind::asf, s, false);
+    const double landed = rows_.back().evals_per_s;
+    const libbrdf::Surface surface{s.sigma_s_um, s.lc_um, kWavelengthUm};
+    const std::size_t n = full_.geometries.size();
+    std::vector<double> g(n), c(n), values(n);
+    auto run = [&] {
+      double prefactor = 0.0;
+      for (std::size_t k = 0; k < n; ++k) {
+        const libbrdf::AsfArguments a = libbrdf::asf_arguments(surface, full_.geometries[k]);
+        g[k] = a.g, c[k] = a.c, prefactor = a.prefactor;
+      }
+      libbrdf::asf_auto_batch(g.data(), c.data(), n, prefactor, tolerance, libbrdf::SeriesOptions{}, values.data());
+    };
+    run();
+    Row row{"fast_path", "asf", s.name, variant, "", ""};
+    fill_errors(row, values, ref.values);
+    using clock = std::chrono::steady_clock;
+    std::size_t done = 0;
+    const auto start = clock::now();
+    double elapsed = 0.0;
+    do {
+      run();
+      done += n;
+      elapsed = std::chrono::duration<double>(clock::now() - start).count();
+    } while (elapsed < min_seconds_);
+    row.evals_per_s = double(done) / elapsed;
+    row.speed_ratio = row.evals_per_s / ref.evals_per_s;
+    row.speed_vs_landed = row.evals_per_s / landed;
+    rows_.push_back(row);
+  }
+
   void add_lut_row(ModelKind kind, const BenchSurface& s, LutLayout layout, const std::array<int, 3>& shape) {
     const bool slice = layout == LutLayout::slice;
     Reference& ref = reference(kind, s, slice);
@@ -358,12 +399,12 @@ void write_csv(const std::vector<Row>& rows, const std::string& path) {
   const std::string temporary = path + ".tmp";
   {
     std::ofstream out(temporary, std::ios::trunc);
-    out << "kind,model,surface,variant,layout,shape,nodes,evals_per_s,speed_ratio,max_rel_error,rms_rel_error,floor,samples,bytes\n";
+    out << "kind,model,surface,variant,layout,shape,nodes,evals_per_s,speed_ratio,max_rel_error,rms_rel_error,floor,samples,bytes,speed_vs_landed\n";
     char buffer[512];
     for (const Row& r : rows) {
-      std::snprintf(buffer, sizeof buffer, "%s,%s,%s,%s,%s,%s,%.0f,%.4g,%.4g,%.3g,%.3g,%.3g,%d,%.0f\n", r.kind.c_str(),
+      std::snprintf(buffer, sizeof buffer, "%s,%s,%s,%s,%s,%s,%.0f,%.4g,%.4g,%.3g,%.3g,%.3g,%d,%.0f,%.4g\n", r.kind.c_str(),
                     r.model.c_str(), r.surface.c_str(), r.variant.c_str(), r.layout.c_str(), r.shape.c_str(), r.nodes,
-                    r.evals_per_s, r.speed_ratio, r.max_rel_error, r.rms_rel_error, r.floor, r.samples, r.bytes);
+                    r.evals_per_s, r.speed_ratio, r.max_rel_error, r.rms_rel_error, r.floor, r.samples, r.bytes, r.speed_vs_landed);
       out << buffer;
     }
     out.close();
@@ -413,12 +454,12 @@ int run_bench(const BenchOptions& o) {
   bench.add_bake_row(kSurfaces[1]);
   const std::string csv = o.out + "/bench.csv", png = o.out + "/bench.png";
   write_csv(bench.rows(), csv);
-  std::printf("%-9s %-13s %-12s %-38s %-13s %12s %9s %10s\n", "kind", "model", "surface", "variant", "table",
-              "evals/s", "vs ref", "max err");
+  std::printf("%-9s %-13s %-12s %-38s %-13s %12s %9s %10s %10s\n", "kind", "model", "surface", "variant", "table",
+              "evals/s", "vs ref", "max err", "vs landed");
   for (const Row& r : bench.rows())
-    std::printf("%-9s %-13s %-12s %-38s %-13s %12.4g %9.3g %10.3g\n", r.kind.c_str(), r.model.c_str(), r.surface.c_str(),
+    std::printf("%-9s %-13s %-12s %-38s %-13s %12.4g %9.3g %10.3g %10.3g\n", r.kind.c_str(), r.model.c_str(), r.surface.c_str(),
                 r.variant.c_str(), (r.layout.empty() ? std::string("-") : r.layout + " " + r.shape).c_str(), r.evals_per_s,
-                r.speed_ratio, r.max_rel_error);
+                r.speed_ratio, r.max_rel_error, r.speed_vs_landed);
   if (run_plot(csv, png) != 0) throw std::runtime_error("bench: tools/plot_bench.py failed (bench.csv is written)");
   std::printf("wrote %s and %s in %.1f s\n", csv.c_str(), png.c_str(),
               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
