@@ -122,6 +122,10 @@ std::vector<Query> read_queries(const std::vector<std::string>& at_values, const
     file.open(source, std::ios::binary);
     if (!file) throw InvalidArgument("queries", "cannot open file '" + libbrdf::message_excerpt(source) + "'");
     in = &file;
+    // At most one query per 6 bytes ("0,0,0\n"): reserved, not touched, so the vector is never
+    // copied while it grows and only the pages it fills are mapped.
+    const std::uintmax_t bytes = std::filesystem::file_size(source, ec);
+    if (!ec && bytes / 6 < (std::uintmax_t{1} << 28)) queries.reserve(queries.size() + static_cast<std::size_t>(bytes / 6) + 1);
   }
   LineReader reader(*in);
   std::string_view line;

@@ -4,14 +4,20 @@
 The numpy reference is what a user would write: the MBK ASF (eq. 11, K = 1) summed over every
 term m = 1 .. max(g) + 10 sqrt(max g) + 10 in log space, vectorised over the points, one thread.
 The CLI is timed on a query file; its CSV parsing and printing are cancelled out by subtracting
-the CPU time of `--model g` (eq. 12, no series) on the same file. Each timing is the best CPU time of --repeat (numpy runs on one thread:
-OPENBLAS/OMP threads play no part in elementwise numpy).
+the CPU time of `--model g` (eq. 12, no series) on the same file. Each timing is the best CPU time of
+--repeat runs (numpy runs on one thread: OPENBLAS/OMP threads play no part in elementwise numpy), and
+the CLI runs are interleaved (g, then every model and tolerance, --repeat times) so that a change of
+load on the machine hits the I/O run and the model runs alike. Everything runs on one CPU (unless
+--all-cpus): one thread per evaluation, as numpy.
 
-  tools/bench/eval_vs_numpy.py --brdf build/cli/brdf [--points 200000] [--tolerance 1e-6 ...]
-Prints a CSV: surface,model,tolerance,numpy_ns,cli_ns,speedup,max_rel_diff (CLI vs numpy), and,
-when the Python module imports (PYTHONPATH=build/python), the same batch API without CSV I/O:
-module_cpu_ns (all threads), module_wall_ns, module_speedup_cpu (numpy CPU / module CPU). The CLI
-difference is the noisier number: its CSV I/O costs ~3 us per query against ~0.1-0.3 us of ASF.
+  tools/bench/eval_vs_numpy.py --brdf build/cli/brdf [--points 1000000] [--repeat 5] [--tolerance 1e-6 1e-4] [--models asf mbk]
+Prints a CSV: surface,model,tolerance,numpy_ns,io_ns (the `--model g` run per query), cli_ns (I/O
+cancelled), cli_spread_ns (max - min of that difference over the repeats: how far to trust cli_ns),
+speedup (numpy / cli), max_rel_diff (CLI vs numpy, asf only), and, when the Python module imports
+(PYTHONPATH=build/python), the same batch API without CSV I/O: module_cpu_ns (all threads),
+module_wall_ns, module_speedup_cpu (numpy CPU / module CPU). `brdf eval` reads with std::from_chars and
+writes with std::to_chars (~0.5-1 us of I/O per query), so with 1e6 points the difference is
+~10x its spread.
 """
 import argparse, math, os, resource, subprocess, sys, tempfile, time
 import numpy as np
@@ -42,27 +48,29 @@ def cpu_children():
     return r.ru_utime + r.ru_stime
 
 
-def time_cli(brdf, args, path, repeat):
-    """Best CPU time (user + system, all threads) of `brdf eval` over `repeat` runs: CPU time, not
-    wall time, so that other load on the machine does not count and a threaded batch is not
-    credited with its second core."""
-    best = math.inf
-    out = None
-    for _ in range(repeat):
-        t0 = cpu_children()
-        out = subprocess.run([brdf, "eval", *args, "--queries", path], check=True, capture_output=True, text=True).stdout
-        best = min(best, cpu_children() - t0)
-    return best, out
+def time_cli(brdf, args, path, keep_output=False):
+    """CPU time (user + system, all threads) of one `brdf eval` run: CPU time, not wall time, so
+    that other load on the machine does not count and a threaded batch is not credited with its
+    second core."""
+    t0 = cpu_children()
+    done = subprocess.run([brdf, "eval", *args, "--queries", path], check=True,
+                          stdout=subprocess.PIPE if keep_output else subprocess.DEVNULL, text=True)
+    return cpu_children() - t0, done.stdout
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--brdf", required=True)
-    ap.add_argument("--points", type=int, default=200000)
-    ap.add_argument("--repeat", type=int, default=3)
-    ap.add_argument("--tolerance", nargs="*", default=["1e-6"])
-    ap.add_argument("--models", nargs="*", default=["asf"])
+    ap.add_argument("--points", type=int, default=1000000)
+    ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--tolerance", nargs="*", default=["1e-6", "1e-4"])
+    ap.add_argument("--models", nargs="*", default=["asf", "mbk"])
+    ap.add_argument("--all-cpus", action="store_true",
+                    help="let brdf and the module use every CPU (default: this process and its children on one CPU, "
+                         "so that oneTBB runs one thread and its idle workers add no CPU time)")
     a = ap.parse_args()
+    if not a.all_cpus:
+        os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})  # inherited by the brdf runs
     rng = np.random.default_rng(1)
     deg = np.column_stack([rng.uniform(0, 85, a.points), rng.uniform(0, 85, a.points), rng.uniform(0, 360, a.points)])
     ti, ts, ps = np.radians(deg.T)
@@ -70,10 +78,11 @@ def main():
         import libbrdf
     except ImportError:
         libbrdf = None
-    print("surface,model,tolerance,numpy_ns,cli_ns,speedup,max_rel_diff,module_cpu_ns,module_wall_ns,module_speedup_cpu")
+    print("surface,model,tolerance,numpy_ns,io_ns,cli_ns,cli_spread_ns,speedup,max_rel_diff,module_cpu_ns,module_wall_ns,module_speedup_cpu")
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "q.csv")
         np.savetxt(path, deg, delimiter=",", fmt="%.17g")
+        configs = [(m, t) for m in a.models for t in a.tolerance]
         for name, s in SURFACES.items():
             surface = ["--sigma-s", str(s["sigma_s"]), "--lc", str(s["lc"]), "--wavelength", str(s["wavelength"])]
             best_np = math.inf
@@ -81,14 +90,26 @@ def main():
                 t0 = time.process_time()
                 ref = numpy_asf(ti, ts, ps, **s)
                 best_np = min(best_np, time.process_time() - t0)
-            io, _ = time_cli(a.brdf, ["--model", "g", *surface], path, a.repeat)
-            for model, tol in [(m, t) for m in a.models for t in a.tolerance]:
+            def args(model, tol):
                 extra = ["--n", "1.5", "--k", "1"] if model != "asf" else []
-                t, out = time_cli(a.brdf, ["--model", model, *surface, *extra, "--tolerance", tol], path, a.repeat)
-                vals = np.loadtxt(out.splitlines()[1:], delimiter=",")[:, 3]
+                return ["--model", model, *surface, *extra, "--tolerance", tol]
+            io_runs, runs, outputs = [], {c: [] for c in configs}, {}
+            for r in range(a.repeat):  # interleaved: the I/O run, then every configuration
+                io_runs.append(time_cli(a.brdf, ["--model", "g", *surface], path)[0])
+                for config in configs:
+                    t, out = time_cli(a.brdf, args(*config), path, keep_output=(r == 0))
+                    runs[config].append(t)
+                    if r == 0:
+                        outputs[config] = out
+            io = min(io_runs)
+            for model, tol in configs:
+                vals = np.loadtxt(outputs[(model, tol)].splitlines()[1:], delimiter=",")[:, 3]
                 mask = ref > 1e-300
                 diff = float(np.max(np.abs(vals[mask] - ref[mask]) / ref[mask])) if model == "asf" else float("nan")
-                per_np, per_cli = best_np / a.points * 1e9, max(t - io, 1e-12) / a.points * 1e9
+                differences = [t - i for t, i in zip(runs[(model, tol)], io_runs)]
+                per_np, per_io = best_np / a.points * 1e9, io / a.points * 1e9
+                per_cli = max(min(runs[(model, tol)]) - io, 1e-12) / a.points * 1e9
+                spread = (max(differences) - min(differences)) / a.points * 1e9
                 module = ",,"
                 if libbrdf is not None:
                     kwargs = dict(sigma_s=s["sigma_s"], lc=s["lc"], wavelength=s["wavelength"], tolerance=float(tol))
@@ -103,7 +124,7 @@ def main():
                         cpu, wall = min(cpu, time.process_time() - c0), min(wall, time.perf_counter() - w0)
                     per_cpu, per_wall = cpu / a.points * 1e9, wall / a.points * 1e9
                     module = f"{per_cpu:.1f},{per_wall:.1f},{per_np / per_cpu:.2f}"
-                print(f"{name},{model},{tol},{per_np:.1f},{per_cli:.1f},{per_np / per_cli:.2f},{diff:.2e},{module}")
+                print(f"{name},{model},{tol},{per_np:.1f},{per_io:.1f},{per_cli:.1f},{spread:.1f},{per_np / per_cli:.2f},{diff:.2e},{module}")
                 sys.stdout.flush()
 
 
