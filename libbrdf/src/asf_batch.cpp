@@ -61,31 +61,11 @@ HWY_INLINE V ExpRatio(D d, V x) {
   return hn::Mul(poly, hn::BitCast(d, bits));
 }
 
-// Queries of one sub-chunk walked together, structure of arrays (padded to whole vectors).
+// Queries of one sub-chunk, structure of arrays (room for a whole last vector).
 struct LaneList {
   alignas(64) double g[kSubChunk + kMaxLanes], c[kSubChunk + kMaxLanes], ln_g[kSubChunk + kMaxLanes],
       m0[kSubChunk + kMaxLanes], stride[kSubChunk + kMaxLanes], sigma[kSubChunk + kMaxLanes];
-  std::uint16_t key[kSubChunk];
   std::uint32_t index[kSubChunk];
-  std::size_t size = 0;
-  void push(const LaneList& from, std::size_t k) {
-    g[size] = from.g[k];
-    c[size] = from.c[k];
-    ln_g[size] = from.ln_g[k];
-    m0[size] = from.m0[k];
-    stride[size] = from.stride[k];
-    index[size++] = from.index[k];
-  }
-  // Repeats the last entry up to a whole number of vectors (results of the copies are unused).
-  void pad(std::size_t lanes) {
-    for (std::size_t k = size; k % lanes != 0; ++k) {
-      g[k] = g[size - 1];
-      c[k] = c[size - 1];
-      ln_g[k] = ln_g[size - 1];
-      m0[k] = m0[size - 1];
-      stride[k] = stride[size - 1];
-    }
-  }
 };
 
 // The plan of sum_series_blocks (mbk_series.cpp) per lane: the largest-term guess (mode_guess:
@@ -147,41 +127,55 @@ HWY_INLINE V InversePoissonRatio(D d, V m, V inv_g, V s, double max_stride) {
 // ratio overflows.
 template <class D, class V = hn::Vec<D>>
 HWY_INLINE V WalkLanes(D d, V g, V c, V ln_g, V m0, V s, double tol, bool* converged) {
-  const V one = hn::Set(d, 1.0);
+  const V one = hn::Set(d, 1.0), zero = hn::Zero(d);
   const V inv_g = hn::Div(one, g), cs = hn::Mul(c, s);
   const V budget = hn::Set(d, 0.45 * tol);
   const double max_stride = hn::GetLane(hn::MaxOfLanes(d, s));
-  V sum = one, largest_exponent = hn::Zero(d);
+  V sum = one, largest_exponent = zero;
   // Upward: t_{m+s}/t_m = m^2 Q exp(c s P Q), P = prod (m+j)/g, Q = 1/(m (m+s) P).
-  V m = m0, t = one;
-  auto active = hn::Eq(one, one);
-  for (int terms = 0; !hn::AllFalse(d, active); m = hn::Add(m, s)) {
-    if (++terms > kMaxLaneTerms) *converged = false;
-    if (!*converged) break;
+  auto up_ratio = [&](V m) {
     const V p = InversePoissonRatio(d, m, inv_g, s, max_stride);
     const V q = hn::Div(one, hn::Mul(hn::Mul(m, hn::Add(m, s)), p));
     const V exponent = hn::Mul(cs, hn::Mul(p, q));
     largest_exponent = hn::Max(largest_exponent, exponent);
-    const V ratio = hn::Mul(hn::Mul(hn::Mul(m, m), q), ExpRatio(d, exponent));
-    t = hn::IfThenElseZero(active, hn::Mul(t, ratio));
-    sum = hn::Add(sum, t);
-    active = hn::AndNot(TailDone(d, t, ratio, sum, budget), active);
-  }
-  // Downward: t_{m-s}/t_m = P' m^2 R exp(-c s R), P' = prod (m-s+j)/g, R = 1/((m-s) m); the
-  // lattice ends at m >= 1.
-  m = m0;
-  t = one;
-  active = hn::Ge(hn::Sub(m0, s), one);
-  for (int terms = 0; !hn::AllFalse(d, active); m = hn::Sub(m, s)) {
-    if (++terms > kMaxLaneTerms) *converged = false;
-    if (!*converged) break;
+    return hn::Mul(hn::Mul(hn::Mul(m, m), q), ExpRatio(d, exponent));
+  };
+  // Downward: t_{m-s}/t_m = P' m^2 R exp(-c s R), P' = prod (m-s+j)/g, R = 1/((m-s) m); 0 where
+  // m - s < 1 (the lattice ends at m >= 1).
+  auto down_ratio = [&](V m) {
     const V below = hn::Sub(m, s);
     const V p = InversePoissonRatio(d, below, inv_g, s, max_stride);
     const V r = hn::Div(one, hn::Mul(below, m));
     const V ratio = hn::Mul(hn::Mul(p, hn::Mul(hn::Mul(m, m), r)), ExpRatio(d, hn::Neg(hn::Mul(cs, r))));
-    t = hn::IfThenElseZero(active, hn::Mul(t, ratio));
-    sum = hn::Add(sum, t);
-    active = hn::AndNot(hn::Or(TailDone(d, t, ratio, sum, budget), hn::Lt(hn::Sub(below, s), one)), active);
+    return hn::IfThenElseZero(hn::Ge(below, one), ratio);
+  };
+  // Two terms per step, as WalkSharedM.
+  V m = m0, t = one;
+  auto active = hn::Eq(one, one);
+  for (int terms = 0; !hn::AllFalse(d, active); m = hn::Add(m, hn::Add(s, s))) {
+    if ((terms += 2) > kMaxLaneTerms) {
+      *converged = false;
+      break;
+    }
+    const V r0 = up_ratio(m), r1 = up_ratio(hn::Add(m, s));
+    const V t0 = hn::IfThenElseZero(active, hn::Mul(t, r0));
+    t = hn::Mul(t0, r1);
+    sum = hn::Add(sum, hn::Add(t0, t));
+    active = hn::AndNot(TailDone(d, t, r1, sum, budget), active);
+  }
+  m = m0;
+  t = one;
+  active = hn::Ge(hn::Sub(m0, s), one);
+  for (int terms = 0; !hn::AllFalse(d, active); m = hn::Sub(m, hn::Add(s, s))) {
+    if ((terms += 2) > kMaxLaneTerms) {
+      *converged = false;
+      break;
+    }
+    const V r0 = down_ratio(m), r1 = down_ratio(hn::Sub(m, s));
+    const V t0 = hn::IfThenElseZero(active, hn::Mul(t, r0));
+    t = hn::Mul(t0, r1);
+    sum = hn::Add(sum, hn::Add(t0, t));
+    active = hn::AndNot(TailDone(d, t, r1, sum, budget), active);
   }
   if (hn::GetLane(hn::MaxOfLanes(d, largest_exponent)) > kMaxLogRatio) *converged = false;
   const V log_value = hn::Add(LogTerm(d, m0, g, ln_g, c), hn::Log(d, hn::Mul(sum, s)));
@@ -240,45 +234,34 @@ HWY_INLINE V WalkSharedM(D d, V g, V c, V ln_g, double ms, double tol, bool* con
   return hn::IfThenElseZero(hn::Ge(log_value, hn::Set(d, -745.0)), hn::Exp(d, log_value));
 }
 
-// Walks a list in whole vectors (shared m where the guesses are close, else lane by lane); lanes
-// with a non-finite result or no convergence are rejected.
-std::size_t WalkList(LaneList& list, double tol, bool unit_stride, std::uint32_t* rejected) {
+// Walks entries [begin, end) of a list in whole vectors (lanes past the end repeat its last
+// entry; shared m where the guesses are close, else lane by lane); lanes with a non-finite result
+// or no convergence are rejected.
+std::size_t WalkRange(LaneList& list, std::size_t begin, std::size_t end, double tol, bool unit_stride,
+                      std::uint32_t* rejected) {
   const hn::ScalableTag<double> d;
   using V = hn::Vec<decltype(d)>;
   const std::size_t n = hn::Lanes(d);
-  if (list.size == 0) return 0;
-  list.pad(n);
   std::size_t count = 0;
-  for (std::size_t k = 0; k < list.size; k += n) {
-    const V g = hn::Load(d, list.g + k), c = hn::Load(d, list.c + k), ln_g = hn::Load(d, list.ln_g + k);
-    const V m0 = hn::Load(d, list.m0 + k);
+  for (std::size_t k = begin; k < end; k += n) {
+    const auto valid = hn::FirstN(d, end - k);
+    auto load = [&](const double* array) { return hn::IfThenElse(valid, hn::LoadU(d, array + k), hn::Set(d, array[end - 1])); };
+    const V g = load(list.g), c = load(list.c), ln_g = load(list.ln_g), m0 = load(list.m0);
     bool converged = true;
     V sigma;
     const double ms = hn::GetLane(hn::MinOfLanes(d, m0));
-    if (unit_stride && hn::GetLane(hn::MaxOfLanes(d, m0)) - ms <= kMaxSharedSpread) {
+    bool shared = unit_stride && hn::GetLane(hn::MaxOfLanes(d, m0)) - ms <= kMaxSharedSpread;
+    if (shared) {
       sigma = WalkSharedM(d, g, c, ln_g, ms, tol, &converged);
-      if (!converged) converged = true;  // a lane far above ms: its own guess instead
-      else goto done;
+      shared = converged;  // else a lane far above ms: each lane from its own guess
+      converged = true;
     }
-    sigma = WalkLanes(d, g, c, ln_g, m0, hn::Load(d, list.stride + k), tol, &converged);
-  done:
-    hn::Store(sigma, d, list.sigma + k);
-    for (std::size_t lane = k; lane < std::min(k + n, list.size); ++lane)
+    if (!shared) sigma = WalkLanes(d, g, c, ln_g, m0, load(list.stride), tol, &converged);
+    hn::StoreU(sigma, d, list.sigma + k);
+    for (std::size_t lane = k; lane < std::min(k + n, end); ++lane)
       if (!converged || !std::isfinite(list.sigma[lane])) rejected[count++] = list.index[lane];
   }
   return count;
-}
-
-// Entries of `from` with key < buckets appended to `to` in key order (counting sort).
-void SortedAppend(const LaneList& from, std::size_t buckets, std::uint16_t first_key, LaneList& to) {
-  std::uint16_t start[kSubChunk + 1] = {};
-  for (std::size_t k = 0; k < from.size; ++k)
-    if (from.key[k] >= first_key && from.key[k] < first_key + buckets) ++start[from.key[k] - first_key + 1];
-  for (std::size_t b = 1; b <= buckets; ++b) start[b] += start[b - 1];
-  std::uint16_t order[kSubChunk];
-  for (std::size_t k = 0; k < from.size; ++k)
-    if (from.key[k] >= first_key && from.key[k] < first_key + buckets) order[start[from.key[k] - first_key]++] = static_cast<std::uint16_t>(k);
-  for (std::size_t k = 0; k < start[buckets - 1]; ++k) to.push(from, order[k]);
 }
 
 std::size_t SeriesQueryLanes(const double* g, const double* c, std::size_t count, double tol, double* sigma,
@@ -287,8 +270,10 @@ std::size_t SeriesQueryLanes(const double* g, const double* c, std::size_t count
   const std::size_t n = hn::Lanes(d);
   const StrideRule rule = stride_rule(tol);
   std::size_t rejected_count = 0;
-  static thread_local LaneList all, unit, strided;  // ~50 KB each: kept off the stack
-  constexpr std::uint16_t kUnitKeys = 256, kStridedKeys = 64;
+  static thread_local LaneList all, sorted;  // ~50 KB each: kept off the stack
+  // Sort keys: unit-stride lanes by their guess (they share m), then strided lanes by their extent
+  // in strides (a vector walks as long as its longest lane), then those too wide for lanes.
+  constexpr std::size_t kUnitKeys = 256, kStridedKeys = 64, kKeys = kUnitKeys + kStridedKeys + 1;
   for (std::size_t begin = 0; begin < count; begin += kSubChunk) {
     const std::size_t size = std::min(kSubChunk, count - begin);
     std::copy(g + begin, g + begin + size, all.g);
@@ -303,27 +288,26 @@ std::size_t SeriesQueryLanes(const double* g, const double* c, std::size_t count
       hn::Store(stride, d, all.stride + k);
       hn::Store(w, d, work + k);
     }
-    // Keys: unit-stride lanes by their guess (they share m), strided lanes by their extent in
-    // strides (the walk of a vector lasts as long as its longest lane); too wide: rejected.
-    all.size = size;
+    std::uint16_t key[kSubChunk], start[kKeys + 1] = {};
     for (std::size_t k = 0; k < size; ++k) {
-      all.index[k] = static_cast<std::uint32_t>(begin + k);
-      if (all.stride[k] == 1.0) {
-        all.key[k] = static_cast<std::uint16_t>(std::min(all.m0[k], kUnitKeys - 1.0));
-      } else if (all.stride[k] <= kLaneMaxStride) {
-        all.key[k] = static_cast<std::uint16_t>(kUnitKeys + std::min(16.0 * (work[k] - 2.0), kStridedKeys - 1.0));
-      } else {
-        all.key[k] = kUnitKeys + kStridedKeys;
-        rejected[rejected_count++] = all.index[k];
-      }
+      const double s = all.stride[k];
+      key[k] = static_cast<std::uint16_t>(s == 1.0              ? std::min(all.m0[k], kUnitKeys - 1.0)
+                                          : s <= kLaneMaxStride ? kUnitKeys + std::min(16.0 * (work[k] - 2.0), kStridedKeys - 1.0)
+                                                                : kKeys - 1.0);
+      ++start[key[k] + 1];
     }
-    unit.size = strided.size = 0;
-    SortedAppend(all, kUnitKeys, 0, unit);
-    SortedAppend(all, kStridedKeys, kUnitKeys, strided);
-    rejected_count += WalkList(unit, tol, true, rejected + rejected_count);
-    rejected_count += WalkList(strided, tol, false, rejected + rejected_count);
-    for (const LaneList* list : {&unit, &strided})
-      for (std::size_t k = 0; k < list->size; ++k) sigma[list->index[k]] = list->sigma[k];
+    for (std::size_t b = 1; b <= kKeys; ++b) start[b] += start[b - 1];
+    const std::size_t unit_end = start[kUnitKeys], strided_end = start[kKeys - 1];
+    for (std::size_t k = 0; k < size; ++k) {
+      const std::size_t to = start[key[k]]++;
+      sorted.g[to] = all.g[k], sorted.c[to] = all.c[k], sorted.ln_g[to] = all.ln_g[k];
+      sorted.m0[to] = all.m0[k], sorted.stride[to] = all.stride[k];
+      sorted.index[to] = static_cast<std::uint32_t>(begin + k);
+    }
+    for (std::size_t k = strided_end; k < size; ++k) rejected[rejected_count++] = sorted.index[k];
+    rejected_count += WalkRange(sorted, 0, unit_end, tol, true, rejected + rejected_count);
+    rejected_count += WalkRange(sorted, unit_end, strided_end, tol, false, rejected + rejected_count);
+    for (std::size_t k = 0; k < strided_end; ++k) sigma[sorted.index[k]] = sorted.sigma[k];
   }
   return rejected_count;
 }
