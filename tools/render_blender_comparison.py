@@ -31,6 +31,7 @@ import OpenImageIO as oiio
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 sys.path.insert(0, os.path.join(ROOT, "blender_addon"))
 from package import addon_zip  # noqa: E402
+from libbrdf_materials.core import KERNEL_MODELS  # noqa: E402
 
 ROWS = (("mbk", "MBK (eq. 11, K)"), ("bk", "BK original (eq. 26)"), ("bk-modified", "BK modified (eq. 28)"),
         ("microfacet", "microfacet, mapped (eqs 20/25)"))
@@ -49,7 +50,9 @@ def build_job(args, work, columns, cell):
     for r, (model, _) in enumerate(ROWS):
         for c, ratio in enumerate(columns):
             material = {"model": model, "material": args.material, "sigma_s": ratio * LAMBDA_UM, "lc": args.lc,
-                        "mode": "LUT", "resolution": list(args.resolution)}
+                        "mode": "LUT"}
+            if model not in KERNEL_MODELS:  # the factored form's P~ table keeps its exporter default (54^3)
+                material["resolution"] = list(args.resolution)
             x = (c - (len(columns) - 1) / 2) * SPACING
             z = ((len(ROWS) - 1) / 2 - r) * SPACING
             # Not seen in the other spheres' mirror lobes: each cell shows one model alone.

@@ -30,16 +30,20 @@ MODEL_NAMES = tuple(m[0] for m in MODELS)
 MATERIALS = ("Au", "Ag", "Al", "Cu", "Cr", "Ni", "Ti", "Si", "BK7")
 
 MODES = (
-    ("LUT", "Baked table", "Emission from a baked rusinkiewicz table lit by the scene's first Sun, "
-                           "plus the specular spike as a mirror lobe; Cycles and EEVEE"),
+    ("LUT", "Baked table", "Emission from baked tables lit by every Sun (MBK/BK: the factored form with the "
+                           "universal Sigma image), plus the specular spike as a mirror lobe; Cycles and EEVEE"),
     ("FIT", "Native BSDF", "GGX Glossy lobes fitted to the model (colour following the view angle) plus "
                            "the spike as a mirror lobe; any lights, shadows, world; no table"),
-    ("OSL", "OSL shader", "Script node with a generated OSL shader doing the table lookup; Cycles with OSL"),
+    ("OSL", "OSL shader", "Script node with a generated OSL shader doing the table lookups; Cycles with OSL"),
 )
 MODE_NAMES = tuple(m[0] for m in MODES)
 
 DEFAULT_WAVELENGTHS = (0.65, 0.55, 0.45)  # um, R G B
-# Table nodes (theta_h, theta_d, phi_d). theta_h carries the specular peak (square-mapped), so it
+# The models exported in the factored form (exporters/include/exporters/blender.h, kernel): their
+# table is the smooth angular factor P~ (default 54^3, `brdf bake --layout kernel`), the lobe's
+# sharpness comes from the universal Sigma image. The other models bake a rusinkiewicz table.
+KERNEL_MODELS = ("mbk", "mbk-fg", "bk", "bk-modified")
+# Rusinkiewicz table nodes (theta_h, theta_d, phi_d) of the other models. theta_h carries the specular peak (square-mapped), so it
 # gets the most nodes. Measured through the node graph against `brdf eval` (theta_i, theta_s <= 70
 # deg, values above 1% of the maximum, 6000 random geometries, green channel), max relative error
 # 128x64x48 vs the bake's default 90x90x90 (1.85x the nodes): polished Au 3.1% vs 6.6%, satin Cu
@@ -88,7 +92,7 @@ class MaterialRequest:
     material: str = ""            # one of MATERIALS, or '' for n, k
     wavelengths: tuple = DEFAULT_WAVELENGTHS  # um, R G B
     mode: str = "LUT"
-    resolution: tuple = DEFAULT_RESOLUTION
+    resolution: tuple = ()        # table nodes; () or zeros: the default of the model's table
     name: str = ""
     target_error: float = DEFAULT_TARGET_ERROR  # FIT mode only
     k_mode: str = "plane"         # K of mbk, mbk-rough, mbk-fg: plane (eq. 13) | tis (conserves energy)
@@ -115,9 +119,11 @@ class MaterialRequest:
         for w in waves:
             _finite_at_least("wavelengths", w, 0.0, inclusive=False, unit="um")
         r.wavelengths = waves
-        res = tuple(int(v) for v in r.resolution)
-        if len(res) != 3 or any(v < 2 or v > 4096 for v in res):
-            raise RequestError(f"resolution: three node counts in [2, 4096] (got {tuple(r.resolution)})")
+        res = tuple(int(v) for v in (r.resolution or ()))
+        if not any(res):  # the default: the exporter's for the factored form, else DEFAULT_RESOLUTION
+            res = () if r.model in KERNEL_MODELS else DEFAULT_RESOLUTION
+        elif len(res) != 3 or any(v < 2 or v > 4096 for v in res):
+            raise RequestError(f"resolution: three node counts in [2, 4096], or 0, 0, 0 for the default (got {tuple(r.resolution)})")
         r.resolution = res
         if not (isinstance(r.target_error, (int, float)) and math.isfinite(r.target_error) and 0.0 < r.target_error <= 1.0):
             raise RequestError(f"target_error: must be a relative error in (0, 1] (got {r.target_error!r})")
@@ -163,10 +169,10 @@ def export_arguments(request):
         args += ["--material", request.material]
     else:
         args += ["--n", _number(request.n), "--k", _number(request.k)]
-    if request.mode != "FIT":
-        args += ["--resolution", ",".join(str(v) for v in request.resolution)]
-    else:
+    if request.mode == "FIT":
         args += ["--target-error", _number(request.target_error)]
+    elif request.resolution:
+        args += ["--resolution", ",".join(str(v) for v in request.resolution)]
     if request.k_mode != "plane":
         args += ["--k-mode", request.k_mode]
     return args
@@ -255,20 +261,35 @@ def load_description(path):
             raise ExportError(f"{path}: description lacks '{key}'")
     if d["mode"] in ("lut", "osl"):
         lut = d.get("lut", {})
-        for key in ("file", "width", "height", "columns", "theta_h", "theta_d", "phi_d", "specular"):
+        if lut.get("layout") == "kernel":
+            required = ("file", "side", "angular", "sigma", "kernel_channels", "closed_form")
+        else:
+            required = ("file", "width", "height", "columns", "theta_h", "theta_d", "phi_d", "specular")
+        for key in required:
             if key not in lut:
                 raise ExportError(f"{path}: description lacks 'lut.{key}'")
     return d
 
 
+def description_files(description):
+    """The file names a description refers to (relative to it): tables, images, OSL shader."""
+    names = []
+    lut = description.get("lut", {})
+    if lut:
+        names.append(lut["file"])
+        if lut.get("layout") == "kernel":
+            names += [lut["angular"]["file"], lut["sigma"]["file"]]
+    if "osl" in description:
+        names.append(description["osl"]["file"])
+    return names
+
+
 def check_outputs(description, path):
     """Raises ExportError unless the files the description names exist beside it."""
-    directory = os.path.dirname(os.path.abspath(path))
-    for section in ("lut", "osl"):
-        if section in description:
-            f = os.path.join(directory, description[section]["file"])
-            if not os.path.isfile(f):
-                raise ExportError(f"{path}: its {section} file {f!r} is missing")
+    for name in description_files(description):
+        f = sibling(path, name)
+        if not os.path.isfile(f):
+            raise ExportError(f"{path}: its file {f!r} is missing")
 
 
 def sibling(path, file_name):

@@ -5,16 +5,22 @@ A Graph is a list of Node(id, type, props, inputs) and links (from node, output)
 input); sockets are named by index (Math nodes have three inputs called "Value") or by name.
 Group sockets: node ids "GROUP_INPUT" / "GROUP_OUTPUT", sockets by name.
 
-LUT graph (the rusinkiewicz lookup of exporters/include/exporters/blender.h in shader nodes):
-  N = shading normal, V = Incoming (towards the viewer), L = group input "Light Direction"
-  H = normalize(L + V)
+LUT graph, factored form (the ASF models mbk, mbk-fg, bk, bk-modified; exporters/include/exporters/
+blender.h, kernel): f = K(theta_i) F(theta_d) P~(theta_h, theta_d, phi_d) C (pi l_c^2/lambda^2) Sigma(g, c)
+  g = g_scale (N.L + N.V)^2, c = c_scale |N x (L + V)|^2 per channel (dot products, no angles);
+  Sigma from the universal Sigma image S(x = ln g, z = sqrt(c/(g+1))), bilinear from 4 Closest
+  fetches: ln Sigma = S + x - ln(1 + g^2) - z^2; P~ trilinear in its atlas (theta_h uniform),
+  K(theta_i), F(theta_d), R_spec(theta_v) linear in the side rows; C = 1, F_bk^2 or 1/S.
+LUT graph, rusinkiewicz atlas (the other models): the lookup of blender.h in shader nodes:
   theta_h = atan2(|N x H|, N.H), theta_d = atan2(|L x H|, L.H)       (atan2: exact near 0)
   cos phi_d = (cos theta_h cos theta_d - N.L) / (sin theta_h sin theta_d), clamped to [-1, 1]
   u0 = sqrt(theta_h / (pi/2)) (N0-1),  u1 = theta_d / (pi/2) (N1-1),  u2 = phi_d / pi (N2-1)
   trilinear between the 8 nodes around (u0, u1, u2), each fetched with Closest interpolation at
   its texel centre ((x + 0.5)/W, (y + 0.5)/H): no filtering or mip level can mix tiles (EEVEE).
+Both: N = shading normal, V = Incoming (towards the viewer), L = group input "Light Direction";
   Radiance = f_r cos(theta_i) E_sun C_sun for N.L > 0 and N.V > 0, emitted; plus a sharp Glossy
   weighted by R_spec(theta_v), theta_v = atan2(|N x V|, N.V), linear between the R_spec nodes.
+  One group instance per Sun lamp (blender_nodes.attach_extra_suns): their radiances add.
 """
 
 import dataclasses
@@ -145,44 +151,33 @@ def _group(name):
                  outputs=[SHADER_OUTPUT, ("Radiance", "NodeSocketColor"), ("Specular Weight", "NodeSocketColor")])
 
 
-def lut_graph(description, atlas_path):
-    """The LUT-mode node group for a description (dict from core.load_description)."""
-    lut = description["lut"]
-    n0, n1, n2 = lut["theta_h"]["nodes"], lut["theta_d"]["nodes"], lut["phi_d"]["nodes"]
-    columns, width, height = lut["columns"], lut["width"], lut["height"]
-    spec_nodes, spec_row = lut["specular"]["nodes"], lut["specular"]["row"]
-
-    g = _group(f"libbrdf {description['name']}")
-    g.images["atlas"] = atlas_path
-    g.notes.update(mode="LUT", shape=(n0, n1, n2))
-    b = _Builder(g)
-    geometry = b.add("ShaderNodeNewGeometry")
-    n_vec = b.vmath("NORMALIZE", Out(geometry.id, "Normal"), label="N")
-    v_vec = b.vmath("NORMALIZE", Out(geometry.id, "Incoming"), label="V")
-    l_vec = b.vmath("NORMALIZE", Out(GROUP_INPUT, "Light Direction"), label="L")
+def _half_difference(b, n_vec, l_vec, v_vec):
+    """The dot products and half/difference angles of (N, L, V) (blender.h): H = normalize(L + V),
+    theta_h = atan2(|N x H|, N.H), theta_d = atan2(|L x H|, L.H) (exact near 0, where acos of a
+    float loses the peak); cos phi_d by spherical trigonometry in the triangle (N, H, L), any phi_d
+    where H = N or L = H (the denominator vanishes and the tables do not depend on phi_d)."""
     h_vec = b.vmath("NORMALIZE", b.vmath("ADD", l_vec, v_vec), label="H")
-
-    cos_i = b.dot(n_vec, l_vec, label="cos theta_i")
-    cos_s = b.dot(n_vec, v_vec, label="cos theta_s")
-    theta_h = b.angle(n_vec, h_vec)
-    theta_d = b.angle(l_vec, h_vec)
+    a = {"H": h_vec, "cos_i": b.dot(n_vec, l_vec, label="cos theta_i"), "cos_s": b.dot(n_vec, v_vec, label="cos theta_s")}
+    a["cos_h"], a["cos_d"] = b.dot(n_vec, h_vec, label="cos theta_h"), b.dot(l_vec, h_vec, label="cos theta_d")
     sin_h = b.length(b.vmath("CROSS_PRODUCT", n_vec, h_vec))
     sin_d = b.length(b.vmath("CROSS_PRODUCT", l_vec, h_vec))
-    cos_h, cos_d = b.dot(n_vec, h_vec), b.dot(l_vec, h_vec)
-    # cos phi_d by spherical trigonometry in the triangle (N, H, L) (blender.h); any phi_d where
-    # H = N or L = H (the denominator vanishes and the table does not depend on phi_d).
-    numerator = b.math("SUBTRACT", b.math("MULTIPLY", cos_h, cos_d), cos_i)
+    a["theta_h"] = b.math("ARCTAN2", sin_h, a["cos_h"], label="theta_h")
+    a["theta_d"] = b.math("ARCTAN2", sin_d, a["cos_d"], label="theta_d")
+    numerator = b.math("SUBTRACT", b.math("MULTIPLY", a["cos_h"], a["cos_d"]), a["cos_i"])
     denominator = b.math("MAXIMUM", b.math("MULTIPLY", sin_h, sin_d), 1e-7)
-    cos_phi = b.clamp(b.math("DIVIDE", numerator, denominator), -1.0, 1.0)
-    phi_d = b.math("ARCCOSINE", cos_phi)
+    a["phi_d"] = b.math("ARCCOSINE", b.clamp(b.math("DIVIDE", numerator, denominator), -1.0, 1.0), label="phi_d")
+    return a
 
-    u0 = b.math("MULTIPLY", b.math("SQRT", b.math("DIVIDE", theta_h, math.pi / 2)), float(n0 - 1), label="u theta_h")
-    u1 = b.math("MULTIPLY", theta_d, (n1 - 1) / (math.pi / 2), label="u theta_d")
-    u2 = b.math("MULTIPLY", phi_d, (n2 - 1) / math.pi, label="u phi_d")
+
+def _atlas_trilinear(b, image_key, atlas, u0, u1, u2):
+    """Trilinear interpolation between the 8 atlas nodes around (u0, u1, u2) (node index units),
+    each fetched with Closest interpolation at its texel centre (blender.h: tile k at column k % C,
+    tile row k / C; texel x = column N0 + i0, y = tile row N1 + i1 from the bottom)."""
+    n0, n1, n2 = atlas["theta_h"]["nodes"], atlas["theta_d"]["nodes"], atlas["phi_d"]["nodes"]
+    columns, width, height = atlas["columns"], atlas["width"], atlas["height"]
     i0, t0 = b.split(u0, n0)
     i1, t1 = b.split(u1, n1)
     i2, t2 = b.split(u2, n2)
-
     inv_size = (1.0 / width, 1.0 / height, 0.0)
     tiles = []
     for dk in (0.0, 1.0):
@@ -196,26 +191,148 @@ def lut_graph(description, atlas_path):
         for da in (0, 1):
             for db in (0, 1):
                 uv = b.vmath("ADD", base, (da / width, db / height, 0.0)) if (da or db) else base
-                corner[da, db] = b.texel("atlas", uv, label=f"node i0+{da} i1+{db} k+{int(dk)}")
+                corner[da, db] = b.texel(image_key, uv, label=f"node i0+{da} i1+{db} k+{int(dk)}")
         along_h0 = b.lerp(corner[0, 0], corner[1, 0], t0)
         along_h1 = b.lerp(corner[0, 1], corner[1, 1], t0)
         tiles.append(b.lerp(along_h0, along_h1, t1))
-    brdf = b.lerp(tiles[0], tiles[1], t2)
+    return b.lerp(tiles[0], tiles[1], t2)
 
-    lit = b.math("MULTIPLY", b.math("GREATER_THAN", cos_i, 0.0), b.math("GREATER_THAN", cos_s, 0.0))
-    scale = b.math("MULTIPLY", b.math("MULTIPLY", cos_i, lit), Out(GROUP_INPUT, "Sun Strength"))
-    radiance = b.vmath("MULTIPLY", b.vmath("SCALE", brdf, scale=scale), Out(GROUP_INPUT, "Sun Color"), label="Radiance")
+
+def _row(b, image_key, theta, nodes, row, width, height, label):
+    """A table row over theta = (pi/2) j/(nodes-1) (texels x = j, y = row from the bottom), linear."""
+    j, tj = b.split(b.math("MULTIPLY", theta, (nodes - 1) / (math.pi / 2)), nodes)
+    uv0 = b.combine(b.math("DIVIDE", b.math("ADD", j, 0.5), float(width)), (row + 0.5) / height)
+    uv1 = b.vmath("ADD", uv0, (1.0 / width, 0.0, 0.0))
+    return b.lerp(b.texel(image_key, uv0, label=f"{label} j"), b.texel(image_key, uv1, label=f"{label} j+1"), tj)
+
+
+def _geometry_vectors(b):
+    geometry = b.add("ShaderNodeNewGeometry")
+    n_vec = b.vmath("NORMALIZE", Out(geometry.id, "Normal"), label="N")
+    v_vec = b.vmath("NORMALIZE", Out(geometry.id, "Incoming"), label="V")
+    l_vec = b.vmath("NORMALIZE", Out(GROUP_INPUT, "Light Direction"), label="L")
+    return n_vec, l_vec, v_vec
+
+
+def _atlas_graph(description, images, layout, image_key, atlas):
+    """A LUT group's start: the geometry, the half/difference angles and the atlas' trilinear
+    value at them (theta_h square-mapped for rusinkiewicz, uniform for the kernel's P~)."""
+    n0, n1, n2 = atlas["theta_h"]["nodes"], atlas["theta_d"]["nodes"], atlas["phi_d"]["nodes"]
+    g = _group(f"libbrdf {description['name']}")
+    g.images.update(images)
+    g.notes.update(mode="LUT", layout=layout, shape=(n0, n1, n2))
+    b = _Builder(g)
+    vectors = _geometry_vectors(b)
+    a = _half_difference(b, *vectors)
+    fraction = b.math("DIVIDE", a["theta_h"], math.pi / 2)
+    u0 = b.math("MULTIPLY", b.math("SQRT", fraction) if layout == "rusinkiewicz" else fraction, float(n0 - 1), label="u theta_h")
+    u1 = b.math("MULTIPLY", a["theta_d"], (n1 - 1) / (math.pi / 2), label="u theta_d")
+    u2 = b.math("MULTIPLY", a["phi_d"], (n2 - 1) / math.pi, label="u phi_d")
+    return g, b, vectors, a, _atlas_trilinear(b, image_key, atlas, u0, u1, u2)
+
+
+def _lit_radiance(b, brdf, a):
+    """Radiance = f_r cos(theta_i) E_sun C_sun where N.L > 0 and N.V > 0, else 0."""
+    lit = b.math("MULTIPLY", b.math("GREATER_THAN", a["cos_i"], 0.0), b.math("GREATER_THAN", a["cos_s"], 0.0))
+    scale = b.math("MULTIPLY", b.math("MULTIPLY", a["cos_i"], lit), Out(GROUP_INPUT, "Sun Strength"))
+    return b.vmath("MULTIPLY", b.vmath("SCALE", brdf, scale=scale), Out(GROUP_INPUT, "Sun Color"), label="Radiance")
+
+
+def lut_graph(description, images):
+    """The LUT-mode node group for a description (dict from core.load_description); `images` maps
+    the image keys of the description's layout to absolute paths (graph_images)."""
+    if description["lut"].get("layout") == "kernel":
+        return _kernel_lut_graph(description, images)
+    lut = description["lut"]
+    width, height = lut["width"], lut["height"]
+    spec_nodes, spec_row = lut["specular"]["nodes"], lut["specular"]["row"]
+
+    g, b, (n_vec, l_vec, v_vec), a, brdf = _atlas_graph(description, images, "rusinkiewicz", "atlas", lut)
+    radiance = _lit_radiance(b, brdf, a)
 
     # R_spec(theta_v) of the specular spike (row spec_row, nodes over [0, 90] deg).
-    theta_v = b.angle(n_vec, v_vec)
-    j, tj = b.split(b.math("MULTIPLY", theta_v, (spec_nodes - 1) / (math.pi / 2)), spec_nodes)
-    uv0 = b.combine(b.math("DIVIDE", b.math("ADD", j, 0.5), float(width)), (spec_row + 0.5) / height)
-    uv1 = b.vmath("ADD", uv0, (1.0 / width, 0.0, 0.0))
-    spec = b.lerp(b.texel("atlas", uv0, label="R_spec j"), b.texel("atlas", uv1, label="R_spec j+1"), tj)
-    spec = b.vmath("SCALE", spec, scale=b.math("GREATER_THAN", cos_s, 0.0), label="R_spec")  # none from behind
-
+    spec = _row(b, "atlas", b.angle(n_vec, v_vec), spec_nodes, spec_row, width, height, "R_spec")
+    spec = b.vmath("SCALE", spec, scale=b.math("GREATER_THAN", a["cos_s"], 0.0), label="R_spec")  # none from behind
     _finish(b, g, radiance, spec)
     return g
+
+
+def _kernel_sigma(b, image_key, sigma, g_value, c_value, channel):
+    """Sigma(g, c) of eq. 11 from the Sigma image (blender.h): S bilinear at x = ln g, z = sqrt(c/(g+1))
+    (4 Closest fetches), then Sigma = exp(S + x - ln(1 + g^2) - z^2)."""
+    width, height, x_min, dx, dz = sigma["width"], sigma["height"], sigma["x_min"], sigma["dx"], sigma["dz"]
+    x_max, z_max = x_min + (width - 1) * dx, (height - 1) * dz
+    x = b.math("LOGARITHM", b.math("MAXIMUM", g_value, 1e-30), math.e, label=f"x = ln g ({channel})")
+    z2 = b.math("DIVIDE", c_value, b.math("ADD", g_value, 1.0), label=f"z^2 = c/(g+1) ({channel})")
+    ux = b.math("DIVIDE", b.math("SUBTRACT", b.clamp(x, x_min, x_max), x_min), dx)
+    uz = b.math("DIVIDE", b.math("MINIMUM", b.math("SQRT", z2), z_max), dz)
+    i, tx = b.split(ux, width)
+    j, tz = b.split(uz, height)
+    base = b.combine(b.math("DIVIDE", b.math("ADD", i, 0.5), float(width)), b.math("DIVIDE", b.math("ADD", j, 0.5), float(height)))
+    corner = {}
+    for da in (0, 1):
+        for db in (0, 1):
+            uv = b.vmath("ADD", base, (da / width, db / height, 0.0)) if (da or db) else base
+            corner[da, db] = b.texel(image_key, uv, label=f"S i+{da} j+{db} ({channel})")
+    s = b.lerp(b.lerp(corner[0, 0], corner[1, 0], tx), b.lerp(corner[0, 1], corner[1, 1], tx), tz)
+    s = b.dot(s, (1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0))  # R = G = B
+    log_one_g2 = b.math("LOGARITHM", b.math("MULTIPLY_ADD", g_value, g_value, 1.0), math.e)
+    ln_sigma = b.math("SUBTRACT", b.math("SUBTRACT", b.math("ADD", s, x), log_one_g2), z2, label=f"ln Sigma ({channel})")
+    return b.math("EXPONENT", ln_sigma, label=f"Sigma ({channel})")
+
+
+def _kernel_lut_graph(description, images):
+    """LUT mode of the ASF models: the factored form (exporters/include/exporters/blender.h, kernel)
+      f = K(theta_i) F(theta_d) P~(theta_h, theta_d, phi_d) C (pi l_c^2/lambda^2) Sigma(g, c),
+      g = g_scale (N.L + N.V)^2 (eq. 12), c = c_scale |N x (L + V)|^2 (eq. 10), per channel;
+    P~ trilinear in its atlas (theta_h uniform), K, F and R_spec linear in the side rows, Sigma from
+    the universal Sigma image; C = 1, F_bk^2 (eq. 27) or 1/S (eq. 28) from dot products."""
+    lut = description["lut"]
+    side, sigma = lut["side"], lut["sigma"]
+    g, b, (n_vec, l_vec, v_vec), a, angular_factor = _atlas_graph(description, images, "kernel", "angular", lut["angular"])
+
+    nodes, width, height = side["width"], side["width"], side["height"]
+    rows = side["rows"]
+    theta_i = b.angle(n_vec, l_vec)
+    k = _row(b, "side", theta_i, nodes, rows["k"], width, height, "K")
+    fresnel = _row(b, "side", a["theta_d"], nodes, rows["fresnel"], width, height, "F")
+
+    total = b.math("ADD", a["cos_i"], a["cos_s"], label="N.L + N.V")
+    total2 = b.math("MULTIPLY", total, total)
+    tangential = b.vmath("CROSS_PRODUCT", n_vec, b.vmath("ADD", l_vec, v_vec))
+    eta2 = b.dot(tangential, tangential, label="eta_r^2")
+    channels = lut["kernel_channels"]
+    sigma_rgb = []
+    for c, name in enumerate("RGB"):
+        g_value = b.math("MULTIPLY", total2, channels[c]["g_scale"], label=f"g ({name})")
+        c_value = b.math("MULTIPLY", eta2, channels[c]["c_scale"], label=f"c ({name})")
+        sigma_rgb.append(b.math("MULTIPLY", _kernel_sigma(b, "sigma", sigma, g_value, c_value, name),
+                                channels[c]["prefactor"]))
+    brdf = b.vmath("MULTIPLY", b.vmath("MULTIPLY", k, fresnel), b.vmath("MULTIPLY", angular_factor, b.combine(*sigma_rgb)))
+    closed = lut.get("closed_form", "none")
+    if closed != "none":
+        # F_bk^2 = (L.H)^2 / ((N.L)^2 (N.H)^2) (eq. 27) or 1/S = (L.H)^2 / ((N.L)(N.V)(N.H)^2) (eq. 28).
+        cos_d2 = b.math("MULTIPLY", a["cos_d"], a["cos_d"])
+        cos_h2 = b.math("MULTIPLY", a["cos_h"], a["cos_h"])
+        other = a["cos_i"] if closed == "bk_eq27" else a["cos_s"]
+        denominator = b.math("MAXIMUM", b.math("MULTIPLY", b.math("MULTIPLY", a["cos_i"], other), cos_h2), 1e-30)
+        brdf = b.vmath("SCALE", brdf, scale=b.math("DIVIDE", cos_d2, denominator), label=closed)
+    radiance = _lit_radiance(b, brdf, a)
+    spec = _row(b, "side", b.angle(n_vec, v_vec), nodes, rows["r_spec"], width, height, "R_spec")
+    spec = b.vmath("SCALE", spec, scale=b.math("GREATER_THAN", a["cos_s"], 0.0), label="R_spec")  # none from behind
+    _finish(b, g, radiance, spec)
+    return g
+
+
+def graph_images(description, description_path):
+    """{image key: absolute path} of a LUT/OSL description's images (beside the description)."""
+    directory = os.path.dirname(os.path.abspath(description_path))
+    lut = description["lut"]
+    if lut.get("layout") == "kernel":
+        return {"side": os.path.join(directory, lut["side"]["file"]),
+                "angular": os.path.join(directory, lut["angular"]["file"]),
+                "sigma": os.path.join(directory, lut["sigma"]["file"])}
+    return {"atlas": os.path.join(directory, lut["file"])}
 
 
 def _finish(b, g, radiance, spec_weight):
@@ -401,7 +518,7 @@ def graph_for(description, description_path):
     directory = os.path.dirname(os.path.abspath(description_path))
     mode = description["mode"]
     if mode == "lut":
-        return lut_graph(description, os.path.join(directory, description["lut"]["file"]))
+        return lut_graph(description, graph_images(description, description_path))
     if mode == "fit":
         return fit_graph(description)
     if mode == "osl":

@@ -32,8 +32,9 @@ class LIBBRDF_OT_add_material(bpy.types.Operator):
     wavelengths: FloatVectorProperty(name="Wavelengths (um)", size=3, default=core.DEFAULT_WAVELENGTHS, min=1e-3,
                                      description="Wavelength of the R, G and B channels")
     mode: EnumProperty(name="Mode", items=[(m, label, d) for m, label, d in core.MODES], default="LUT")
-    resolution: IntVectorProperty(name="Table nodes", size=3, default=core.DEFAULT_RESOLUTION, min=2, max=4096,
-                                  description="theta_h, theta_d, phi_d nodes of the baked table (LUT, OSL)")
+    resolution: IntVectorProperty(name="Table nodes", size=3, default=(0, 0, 0), min=0, max=4096,
+                                  description="theta_h, theta_d, phi_d nodes of the baked table (LUT, OSL); 0, 0, 0: "
+                                              "the default (54^3 angular factor for MBK/BK, 128x64x48 otherwise)")
     name: StringProperty(name="Name", default="", description="Node group name (default: from the parameters)")
     target_error: FloatProperty(name="Target error", default=core.DEFAULT_TARGET_ERROR, min=0.001, max=1.0,
                                 description="FIT: p95 per-pixel relative error the number of fitted lobes must meet")

@@ -39,7 +39,8 @@ class LIBBRDF_MaterialSettings(bpy.types.PropertyGroup):
     k: FloatProperty(name="kappa", default=0.0, min=0.0)
     wavelengths: FloatVectorProperty(name="Wavelengths (um)", size=3, default=core.DEFAULT_WAVELENGTHS, min=1e-3)
     mode: EnumProperty(name="Mode", items=[(m, label, d) for m, label, d in core.MODES], default="LUT")
-    resolution: IntVectorProperty(name="Table nodes", size=3, default=core.DEFAULT_RESOLUTION, min=2, max=4096)
+    resolution: IntVectorProperty(name="Table nodes", size=3, default=(0, 0, 0), min=0, max=4096,
+                                  description="0, 0, 0: the default (54^3 angular factor for MBK/BK, 128x64x48 otherwise)")
     target_error: FloatProperty(name="Target error", default=core.DEFAULT_TARGET_ERROR, min=0.001, max=1.0,
                                 description="FIT: p95 per-pixel relative error the number of fitted lobes must meet")
     k_mode: EnumProperty(name="K", default="plane",

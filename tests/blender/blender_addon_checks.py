@@ -6,6 +6,7 @@ the node group when the lamp turns. Exit status 1 on any failure; the last line 
 "N passed, M failed" (tests/checks.py)."""
 
 import os
+import time
 import sys
 
 import addon_utils
@@ -82,11 +83,20 @@ def main():
                              resolution=(32, 16, 8))
     group = obj.active_material.node_tree.nodes["libbrdf"]
     images = [n.image for n in group.node_tree.nodes if n.bl_idname == "ShaderNodeTexImage"]
-    check(result == {"FINISHED"} and len(images) == 10 and len({i.name for i in images}) == 1,
-          f"LUT group: 10 Closest lookups of one atlas ({len(images)})")
-    image = images[0]
-    check(image.colorspace_settings.name == "Non-Color" and not image.use_half_precision and image.size[0] > 0,
-          f"atlas loaded as Non-Color float ({image.size[0]}x{image.size[1]})")
+    # The factored form: P~ trilinear (8), K, F, R_spec rows (2 each), Sigma bilinear per channel (12).
+    check(result == {"FINISHED"} and len(images) == 26 and len({i.name for i in images}) == 3,
+          f"LUT group: 26 Closest lookups of three images ({len(images)}, {len({i.name for i in images})})")
+    check(all(i.colorspace_settings.name == "Non-Color" and not i.use_half_precision and i.size[0] > 0 for i in images),
+          f"images loaded as Non-Color float ({sorted({tuple(i.size) for i in images})})")
+    # A roughness change: the add-on exports again (only K and R_spec are re-baked) and rebuilds the group.
+    start = time.perf_counter()
+    result, _ = run_operator(model="bk-modified", material="Cu", sigma_s=0.07, lc=2.5, mode="LUT",
+                             resolution=(32, 16, 8))
+    took = time.perf_counter() - start
+    group = obj.active_material.node_tree.nodes["libbrdf"]
+    reused = {n.image.name for n in group.node_tree.nodes if n.bl_idname == "ShaderNodeTexImage"} & {i.name for i in images}
+    check(result == {"FINISHED"} and len(reused) == 2,
+          f"roughness change: Add Material again in {took:.2f} s (export and group), angular and Sigma images reused")
     check(all(n.interpolation == "Closest" and n.extension == "EXTEND"
               for n in group.node_tree.nodes if n.bl_idname == "ShaderNodeTexImage"), "Closest, Extend lookups")
     for rotation in ((0.3, 0.2, 0.0), (1.1, -0.4, 0.7)):

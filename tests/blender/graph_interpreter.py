@@ -1,6 +1,6 @@
 """Evaluates a libbrdf node graph (blender_addon/libbrdf_materials/nodegraph.py) with numpy, for
 many shading points at once, with Blender's semantics for the node types the graphs use: Math and
-Vector Math (safe division and normalisation as in Cycles), Combine XYZ, Image Texture with
+Vector Math (safe division, logarithm and normalisation as in Cycles), Combine XYZ, Image Texture with
 Closest interpolation and EXTEND, Geometry (Normal, Incoming), and Emission / Glossy / Add Shader
 as tagged closures. Not physics: it runs the graph the add-on builds, so that tests can check the
 graph against `brdf eval` without Blender.
@@ -57,6 +57,8 @@ MATH = {
     "GREATER_THAN": lambda a, b, c: (a > b).astype(np.float32),
     "POWER": lambda a, b, c: np.where(a >= 0, np.power(np.maximum(a, 0), b), 0),
     "EXPONENT": lambda a, b, c: np.exp(a),
+    # Cycles' safe_logf: 0 unless both the value and the base are positive.
+    "LOGARITHM": lambda a, b, c: np.where((a > 0) & (b > 0), np.log(np.maximum(a, 1e-38)) / np.log(np.where(b > 0, b, 2.0)), 0),
 }
 
 

@@ -63,14 +63,14 @@ def pixel_angles(normals, light, view):
 
 
 def description_surface(description_path):
-    """(model, [per-channel parameter dict]) of an exported material description."""
+    """(description, model, [per-channel parameter dict]) of an exported material description."""
     with open(description_path, encoding="utf-8") as f:
         d = json.load(f)
-    return d, d["model"], json.loads(d["lut"]["attributes"]["parameters"]) if "lut" in d else None
+    return d, d["model"], d.get("channels")
 
 
 def brdf_eval(brdf, model, p, angles):
-    """`brdf eval` of one channel (parameter dict as in the table's 'parameters') at N angle triples."""
+    """`brdf eval` of one channel (a dict of the description's "channels") at N angle triples."""
     return brdfcli.evaluate(brdf, model, *angles, wavelength=p["wavelength_um"], sigma_s=p["sigma_s_um"],
                             lc=p["lc_um"], n=p["n"], k=p["kappa"])
 

@@ -87,9 +87,10 @@ def test_command():
                              wavelengths=(0.6499999761581421, 0.55, 0.45), mode="OSL").validated()
     args = core.export_arguments(r)
     expected = ["export", "blender", "--model", "bk-modified", "--sigma-s", "0.05", "--lc", "1.5",
-                "--wavelength", "0.65,0.55,0.45", "--mode", "osl", "--name", r.name, "--material", "Cu",
-                "--resolution", "128,64,48"]
-    check(args == expected, f"export arguments {args}")
+                "--wavelength", "0.65,0.55,0.45", "--mode", "osl", "--name", r.name, "--material", "Cu"]
+    check(args == expected, f"export arguments {args} (the factored form: the exporter's default table)")
+    microfacet = core.export_arguments(core.MaterialRequest(model="microfacet", material="Cu", resolution=(0, 0, 0)).validated())
+    check(microfacet[-2:] == ["--resolution", "128,64,48"], f"microfacet: the rusinkiewicz default {microfacet[-2:]}")
     fit = core.export_arguments(core.MaterialRequest(n=1.5, k=0.0, mode="FIT").validated())
     check("--resolution" not in fit and fit[fit.index("--n") + 1] == "1.5" and "--material" not in fit,
           f"FIT with n, k: {fit}")
@@ -118,15 +119,76 @@ def test_executable_lookup(tmp):
             os.environ["LIBBRDF_BRDF_EXE"] = saved
 
 
+def image_spec(path):
+    return oiio.ImageInput.open(path).spec()
+
+
+def timed_export(request, directory):
+    """(description path, wall seconds, CPU seconds of brdf) of one uncached export."""
+    import resource
+    import time
+    before, start = resource.getrusage(resource.RUSAGE_CHILDREN), time.perf_counter()
+    path = core.run_export(BRDF, request, directory, reuse=False)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return path, time.perf_counter() - start, (after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime)
+
+
 def test_export_and_cache(tmp):
+    # The factored form (MBK): side rows per material, the angular atlas and the Sigma image shared.
     r = core.MaterialRequest(model="mbk", material="Al", sigma_s=0.2, lc=2.0, resolution=(24, 16, 12)).validated()
+    path, first_wall, first_cpu = timed_export(r, tmp)
+    d = core.load_description(path)
+    lut = d["lut"]
+    check(lut["layout"] == "kernel" and not lut["angular"]["reused"] and not lut["sigma"]["reused"],
+          "first kernel export writes the angular atlas and the Sigma image")
+    angular, side, sigma = (core.sibling(path, lut[k]["file"]) for k in ("angular", "side", "sigma"))
+    a = lut["angular"]
+    n0, n1, n2 = a["theta_h"]["nodes"], a["theta_d"]["nodes"], a["phi_d"]["nodes"]
+    spec = image_spec(angular)
+    check((n0, n1, n2) == (24, 16, 12) and a["theta_h"]["map"] == "uniform", f"angular table {n0}x{n1}x{n2}, theta_h uniform")
+    rows = -(-n2 // a["columns"])
+    check(a["tile_rows"] == rows and spec.height == rows * n1 and spec.width == a["columns"] * n0 and spec.nchannels == 3
+          and spec.format == oiio.FLOAT and spec.getattribute("libbrdf:format") == "blender-angular-atlas",
+          f"angular atlas {spec.width}x{spec.height} float RGB = {a['columns']} x {rows} tiles, no R_spec row")
+    spec = image_spec(side)
+    check((spec.width, spec.height) == (lut["side"]["width"], 3) and spec.getattribute("libbrdf:format") == "blender-side-rows",
+          f"side rows {spec.width}x{spec.height}: R_spec, K, F")
+    spec = image_spec(sigma)
+    check((spec.width, spec.height) == (lut["sigma"]["width"], lut["sigma"]["height"]) and spec.format == oiio.FLOAT
+          and spec.getattribute("libbrdf:format") == "blender-sigma-image",
+          f"Sigma image {spec.width}x{spec.height} float")
+    check(d["wavelengths_um"] == [0.65, 0.55, 0.45] and d["model"] == "mbk" and d["channels"][0]["sigma_s_um"] == 0.2,
+          "description wavelengths, model and channels")
+    mtime = os.path.getmtime(path)
+    again = core.run_export(BRDF, r, tmp)
+    check(again == path and os.path.getmtime(path) == mtime, "second request reuses the cached export")
+
+    # A roughness change re-bakes only what depends on it: the side rows (K, R_spec), not P~ or Sigma.
+    angular_mtime, sigma_mtime = os.path.getmtime(angular), os.path.getmtime(sigma)
+    rougher = core.MaterialRequest(model="mbk", material="Al", sigma_s=0.3, lc=3.0, resolution=(24, 16, 12)).validated()
+    rough_path, wall, cpu = timed_export(rougher, tmp)
+    rough = core.load_description(rough_path)["lut"]
+    check(rough["angular"]["file"] == lut["angular"]["file"] and rough["angular"]["reused"] and rough["sigma"]["reused"]
+          and os.path.getmtime(angular) == angular_mtime and os.path.getmtime(sigma) == sigma_mtime
+          and rough["side"]["file"] != lut["side"]["file"],
+          "roughness change: angular atlas and Sigma image reused, new side rows")
+    print(f"     export times (brdf wall / CPU): first {first_wall:.2f} s / {first_cpu:.2f} s, "
+          f"roughness change {wall:.2f} s / {cpu:.2f} s")
+    other = core.run_export(BRDF, core.MaterialRequest(model="mbk", material="Au", sigma_s=0.3, lc=3.0,
+                                                       resolution=(24, 16, 12)).validated(), tmp)
+    check(core.load_description(other)["lut"]["angular"]["file"] != lut["angular"]["file"]
+          and core.load_description(other)["lut"]["sigma"]["reused"],
+          "material change: a new angular atlas, the Sigma image reused")
+
+    # The other models: one rusinkiewicz atlas with an R_spec row.
+    r = core.MaterialRequest(model="microfacet", material="Al", sigma_s=0.2, lc=2.0, resolution=(24, 16, 12)).validated()
     path = core.run_export(BRDF, r, tmp)
     d = core.load_description(path)
     atlas = core.sibling(path, d["lut"]["file"])
-    spec = oiio.ImageInput.open(atlas).spec()
+    spec = image_spec(atlas)
     lut = d["lut"]
     n0, n1, n2 = lut["theta_h"]["nodes"], lut["theta_d"]["nodes"], lut["phi_d"]["nodes"]
-    check((n0, n1, n2) == (24, 16, 12), f"table shape {n0}x{n1}x{n2}")
+    check(lut["layout"] == "rusinkiewicz" and (n0, n1, n2) == (24, 16, 12), f"microfacet: rusinkiewicz table {n0}x{n1}x{n2}")
     rows = -(-n2 // lut["columns"])
     check(lut["tile_rows"] == rows and lut["specular"]["row"] == rows * n1 and spec.height == rows * n1 + 1
           and spec.width == max(lut["columns"] * n0, lut["specular"]["nodes"]) and spec.nchannels == 3
@@ -134,10 +196,6 @@ def test_export_and_cache(tmp):
           f"atlas {spec.width}x{spec.height} float RGB = {lut['columns']} x {rows} tiles + R_spec row")
     check(spec.getattribute("libbrdf:format") == "blender-atlas" and "texel x" in spec.getattribute("libbrdf:atlas"),
           "atlas header documents the layout")
-    check(d["wavelengths_um"] == [0.65, 0.55, 0.45] and d["model"] == "mbk", "description wavelengths and model")
-    mtime = os.path.getmtime(path)
-    again = core.run_export(BRDF, r, tmp)
-    check(again == path and os.path.getmtime(path) == mtime, "second request reuses the cached export")
     leftovers = [f for f in os.listdir(tmp) if ".tmp" in f]
     check(not leftovers, f"no temporary files left ({leftovers})")
 

@@ -1,10 +1,17 @@
 """The add-on's node graphs, run without Blender (graph_interpreter.py), against `brdf eval`.
 
-LUT graph: at random geometries in random world frames (theta_i, theta_s <= 70 deg, any azimuth),
-the group's Radiance output / (cos theta_i E C) must match the library's BRDF within 2.5% where
-the BRDF is above 1% of its maximum (table interpolation error; a wrong phi_d convention, atlas
-packing or texel convention gives tens of percent), and Specular Weight must match R_spec within
-0.5%. FIT graph: its Beckmann roughness, colour and spike weight must follow the description.
+LUT graph, factored form (MBK, BK: exporters/include/exporters/blender.h, kernel): at random
+geometries in random world frames (theta_i, theta_s <= 70 deg, any azimuth), the group's Radiance
+output / (cos theta_i E C) must match the library's BRDF where the BRDF is above 1% of its maximum:
+per point and channel median <= 0.3%, p95 <= 1.5% (issue 10) and max <= 1%, at n = 1.5 + 1i with
+sigma_s = 0.02 / 0.2 / 1.0 um, l_c = 2 / 2 / 5 um (polished, intermediate, rough), Au, and BK7 with
+the original BK model (closed-form F_bk^2); Specular Weight must match R_spec within 0.5%.
+The Sigma image alone: its bilinear reconstruction (the graph's formula, in numpy) against an
+independent log-space sum of the series (eq. 11), at random (g, c) where Sigma is within e^-10 of
+Sigma(g, 0): max error of ln Sigma <= 5e-4.
+LUT graph, rusinkiewicz atlas (microfacet): within 2.5% where above 1% of the maximum (table
+interpolation error; a wrong phi_d convention, atlas packing or texel convention gives tens of
+percent). FIT graph: its Beckmann roughness, colour and spike weight must follow the description.
 """
 
 import math
@@ -52,7 +59,8 @@ def random_geometries(rng, count, max_theta_deg):
     return n, light, view, (np.degrees(ti), np.degrees(ts), np.degrees(ps))
 
 
-def lut_case(directory, request, rng):
+def lut_case(directory, request, rng, targets):
+    """targets: (median, p95, max) relative error bounds of Radiance against brdf eval."""
     request = request.validated()
     path = core.run_export(BRDF, request, directory)
     description = core.load_description(path)
@@ -67,27 +75,70 @@ def lut_case(directory, request, rng):
     out = graph_interpreter.evaluate(graph, n, view, {"Light Direction": light, "Sun Strength": strength,
                                                       "Sun Color": np.array(colour + (1.0,))}, images)
     cos_i = np.cos(np.radians(angles[0]))
-    worst = 0.0
+    errors = []
     for rgb in range(3):
         expected = render_check.brdf_eval(BRDF, model, channels[rgb], angles)
         got = out["Radiance"][:, rgb] / (cos_i * strength * colour[rgb])
         above = expected > 0.01 * expected.max()
-        rel = np.abs(got - expected)[above] / expected[above]
-        worst = max(worst, rel.max())
+        errors.append(np.abs(got - expected)[above] / expected[above])
         check(bool(np.all(np.isfinite(out["Radiance"][:, rgb]))), f"{request.name} channel {rgb}: finite")
-        spec = render_check.brdf_eval(BRDF, "r-spec", channels[rgb], (angles[1], angles[1], np.full(count, 180.0)))
+        spec = render_check.brdf_eval(BRDF, "r-spec", channels[rgb], (angles[1], angles[1], np.full(count, 180.0))) \
+            if description["fit"]["has_spike"] else np.zeros(count)  # microfacet: no spike
         spec_rel = np.abs(out["Specular Weight"][:, rgb] - spec) / np.maximum(spec, 1e-12)
         check(spec_rel.max() <= 5e-3, f"{request.name} channel {rgb}: Specular Weight vs r-spec, max rel "
                                        f"{spec_rel.max():.2e} <= 5e-3")
-        print(f"     channel {rgb}: {above.sum()} points above 1% of max, max rel {rel.max():.4f}, "
-              f"median {np.median(rel):.5f}")
-    check(worst <= 0.025, f"{request.name}: LUT graph vs brdf eval max relative error {worst:.4f} <= 0.025")
+    rel = np.concatenate(errors)
+    stats = (np.median(rel), np.percentile(rel, 95), rel.max())
+    check(rel.size >= 300 and all(v <= t for v, t in zip(stats, targets)),
+          f"{request.name} ({graph.notes['layout']}, {len(graph.nodes)} nodes): LUT graph vs brdf eval, {rel.size} values, "
+          f"median {stats[0]:.2e}, p95 {stats[1]:.2e}, max {stats[2]:.2e} <= {targets}")
 
     # Sun below the horizon or camera behind the surface: no radiance.
     flipped = graph_interpreter.evaluate(graph, n, view, {"Light Direction": -light, "Sun Strength": strength,
                                                           "Sun Color": np.array(colour + (1.0,))}, images)
     check(float(np.abs(flipped["Radiance"]).max()) == 0.0, f"{request.name}: zero radiance with the sun behind")
-    return description
+    return description, path
+
+
+def series_ln_sigma(g, c):
+    """ln Sigma(g, c) of eq. 11 by an independent log-space sum over m (numpy; every term to
+    g + 14 sqrt(g) + 80, far beyond where the Poisson weights leave double precision)."""
+    top = int(g.max() + 14 * np.sqrt(g.max()) + 80)
+    m = np.arange(1, top + 1, dtype=float)
+    log_factorial = np.concatenate([[0.0], np.cumsum(np.log(m))])[1:]
+    x = np.log(g)[:, None]
+    terms = -g[:, None] + m * x - log_factorial - np.log(m) - c[:, None] / m
+    peak = terms.max(axis=1, keepdims=True)
+    return (peak + np.log(np.exp(terms - peak).sum(axis=1, keepdims=True)))[:, 0]
+
+
+def sigma_image_case(description_path, rng):
+    """The Sigma image through the graph's bilinear reconstruction against the series."""
+    description = core.load_description(description_path)
+    sigma = description["lut"]["sigma"]
+    texels = graph_interpreter.load_image(core.sibling(description_path, sigma["file"]))[:, :, 0].astype(float)
+    check(texels.shape == (sigma["height"], sigma["width"]) and bool(np.all(np.isfinite(texels))),
+          f"Sigma image {sigma['width']}x{sigma['height']}, finite")
+    count = 3000
+    g = np.exp(rng.uniform(np.log(1e-5), np.log(1e3), count))
+    # z^2 = c/(g+1) up to where Sigma falls to ~e^-10 of Sigma(g, 0) (beyond, no pixel is bright)
+    z = rng.uniform(0.0, 3.2, count)
+    c = (g + 1.0) * z * z
+    x = np.log(g)
+    ux = (np.clip(x, sigma["x_min"], sigma["x_min"] + (sigma["width"] - 1) * sigma["dx"]) - sigma["x_min"]) / sigma["dx"]
+    uz = z / sigma["dz"]
+    i = np.clip(np.floor(ux), 0, sigma["width"] - 2).astype(int)
+    j = np.clip(np.floor(uz), 0, sigma["height"] - 2).astype(int)
+    tx, tz = ux - i, uz - j
+    s = ((1 - tz) * ((1 - tx) * texels[j, i] + tx * texels[j, i + 1]) + tz * ((1 - tx) * texels[j + 1, i] + tx * texels[j + 1, i + 1]))
+    ln_sigma = s + x - np.log1p(g * g) - z * z
+    reference = np.concatenate([series_ln_sigma(g[k:k + 200], c[k:k + 200]) for k in range(0, count, 200)])
+    peak = np.concatenate([series_ln_sigma(g[k:k + 200], 0 * c[k:k + 200]) for k in range(0, count, 200)])
+    inside = reference > peak - 10.0
+    error = np.abs(ln_sigma - reference)[inside]
+    check(inside.sum() > 1000 and error.max() <= 5e-4,
+          f"Sigma image, bilinear, vs the series at {inside.sum()} random (g, c), 1e-5 <= g <= 1e3, within e^-10 of "
+          f"Sigma(g, 0): max |error of ln Sigma| {error.max():.1e} <= 5e-4 (median {np.median(error):.1e})")
 
 
 def fit_case(directory, request):
@@ -131,11 +182,19 @@ def fit_case(directory, request):
 
 def main():
     rng = np.random.default_rng(20151229)
+    n15 = dict(model="mbk", n=1.5, k=1.0, mode="LUT")
+    issue = (0.003, 0.015, 0.01)  # median, p95 (issue 10), max
     with tempfile.TemporaryDirectory() as directory:
+        for name, surface in (("polished", dict(sigma_s=0.02, lc=2.0)), ("intermediate", dict(sigma_s=0.2, lc=2.0)),
+                              ("rough", dict(sigma_s=1.0, lc=5.0))):
+            _, path = lut_case(directory, core.MaterialRequest(**n15, **surface, name=f"n 1.5+1i {name}"), rng, issue)
         lut_case(directory, core.MaterialRequest(model="mbk", material="Au", sigma_s=0.1, lc=2.0, mode="LUT",
-                                                 resolution=(128, 64, 48), name="Au rough"), rng)
+                                                 name="Au"), rng, issue)
         lut_case(directory, core.MaterialRequest(model="bk", material="BK7", sigma_s=0.15, lc=1.5, mode="LUT",
-                                                 resolution=(128, 64, 48), name="BK7 bk"), rng)
+                                                 name="BK7 bk"), rng, issue)
+        sigma_image_case(path, rng)
+        lut_case(directory, core.MaterialRequest(model="microfacet", material="Au", sigma_s=0.1, lc=2.0, mode="LUT",
+                                                 resolution=(128, 64, 48), name="Au microfacet"), rng, (1.0, 1.0, 0.025))
         fit_case(directory, core.MaterialRequest(model="mbk", material="Al", sigma_s=0.2, lc=2.0, mode="FIT"))
     checks.finish("all node-graph checks passed")
 
