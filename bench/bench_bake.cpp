@@ -4,8 +4,14 @@
 //                     tables (each iteration bakes a surface 1e-12 apart, so K is never cached),
 //                     wall seconds on this machine (all cores; oneTBB), and the CPU seconds of
 //                     all threads (cpu_s_all_threads; wall ~ that / cores on an idle machine).
-//                     /0 with the SIMD series for the rows' ASF, /1 with the landed scalar strided series.
-//   bake/merl_cached  the same bake with the K tables already cached (the node evaluations alone).
+//                     per_node:1/strided:1 is the landed path (node by node through Model::evaluate,
+//                     the scalar strided series for the rows' ASF); per_node:1/strided:0 the same with
+//                     the SIMD series; per_node:0/strided:0 the default (each row of nodes one span
+//                     through Model::evaluate_many). speedup = landed CPU seconds / this one's.
+//   bake/merl_cached  the same bakes with the K tables already cached (the node evaluations and the
+//                     error sampling); max_table_diff = largest difference from the landed table,
+//                     diff_vs_per_node = the span path's from per node with the same (SIMD) series,
+//                     each relative to max(|value|, 1e-3 x the table's maximum), every node.
 //   bake/kernel_cold  the kernel layout (54^3 angular factor x 3 wavelengths, K tables built).
 //   ktable/<lambda>   one RenormalizationTable (91 nodes of eq. 13 by quadrature), per wavelength.
 //   lookup/...        single-threaded Lut::lookup of a 90^3 rusinkiewicz table and the MERL table,
@@ -18,11 +24,13 @@
 // Run: build/bench/bench_bake [--benchmark_filter=lookup]
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <ctime>
 #include <memory>
 #include <vector>
 
+#include "bake_internal.h"
 #include "libbrdf/lut.h"
 #include "libbrdf/materials.h"
 #include "libbrdf/models.h"
@@ -59,24 +67,92 @@ BakeRequest merl_request(double sigma_s_um, SeriesMethod method = SeriesMethod::
   return r;
 }
 
+// CPU seconds per bake of the landed path (node by node, strided series): the reference of the
+// speedup counters (measured by the first benchmark, bake/merl_cold/per_node/strided).
+struct BakeReference {
+  double cold = 0.0, cached = 0.0;
+  std::vector<float> cached_values;         // the landed path's table, for max_table_diff
+  std::vector<float> per_node_simd_values;  // per node with the SIMD series, for diff_vs_per_node
+};
+BakeReference& bake_reference() {
+  static BakeReference reference;
+  return reference;
+}
+
+// Args: path (0 = span, Model::evaluate_many per row; 1 = per node, Model::evaluate), series for
+// the rows' ASF (0 = SIMD, 1 = the landed scalar strided series; the K tables' integrals use the
+// SIMD series in both). speedup = the landed path's (1/1) CPU seconds / this one's, same run.
+detail::BakeNodePath node_path(const benchmark::State& state) {
+  return state.range(0) == 0 ? detail::BakeNodePath::span : detail::BakeNodePath::per_node;
+}
+SeriesMethod series_method(const benchmark::State& state) {
+  return state.range(1) == 0 ? SeriesMethod::simd : SeriesMethod::strided;
+}
+bool is_landed(const benchmark::State& state) { return state.range(0) == 1 && state.range(1) == 1; }
+
 void BM_BakeMerlCold(benchmark::State& state) {
   int iteration = 0;
   double error = 0.0;
   const double cpu_start = cpu_seconds();
-  // range(0): 0 = the SIMD series (default), 1 = the landed scalar strided series for the ASF rows
-  // (the K tables' integrals use the SIMD series in both).
-  const SeriesMethod method = state.range(0) == 0 ? SeriesMethod::simd : SeriesMethod::strided;
   for (auto _ : state) {
     // A new sigma_s each time: the K tables are built inside the timed bake.
-    const Lut lut = bake(merl_request(0.1 * (1.0 + 1e-12 * ++iteration), method));
+    const Lut lut = detail::bake(merl_request(0.1 * (1.0 + 1e-12 * ++iteration), series_method(state)), node_path(state));
     error = lut.error.max_relative;
     benchmark::DoNotOptimize(lut.values.data());
   }
+  const double cpu = (cpu_seconds() - cpu_start) / double(state.iterations());
+  if (is_landed(state)) bake_reference().cold = cpu;
   state.counters["nodes"] = 90.0 * 90 * 180 * 3;
   state.counters["lut_max_rel_err"] = error;
-  state.counters["cpu_s_all_threads"] = (cpu_seconds() - cpu_start) / double(state.iterations());
+  state.counters["cpu_s_all_threads"] = cpu;
+  if (bake_reference().cold > 0.0) state.counters["speedup"] = bake_reference().cold / cpu;
 }
-BENCHMARK(BM_BakeMerlCold)->Name("bake/merl_cold")->Arg(0)->Arg(1)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(3);
+// The landed path first: the others' speedup counters divide by its time.
+BENCHMARK(BM_BakeMerlCold)->Name("bake/merl_cold")->Args({1, 1})->Args({1, 0})->Args({0, 0})->ArgNames({"per_node", "strided"})
+    ->Unit(benchmark::kSecond)->UseRealTime()->Iterations(3);
+
+// The same bakes with the K tables already cached: the node evaluations (and the error sampling)
+// alone. max_table_diff: the largest |value - landed value| / max(|landed value|, 1e-3 x the
+// table's maximum) over the whole table (every node, horizon rows included).
+// The largest |value - reference| / max(|reference|, 1e-3 x the reference's maximum) over a table.
+double max_table_difference(const std::vector<float>& values, const std::vector<float>& reference) {
+  if (values.size() != reference.size() || reference.empty()) return -1.0;
+  float peak = 0.0f;
+  for (float v : reference) peak = std::max(peak, std::abs(v));
+  double worst = 0.0;
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    const double r = reference[k];
+    worst = std::max(worst, std::abs(double(values[k]) - r) / std::max(std::abs(r), 1e-3 * double(peak)));
+  }
+  return worst;
+}
+
+void BM_BakeMerlCached(benchmark::State& state) {
+  const BakeRequest request = merl_request(0.1, series_method(state));
+  (void)bake(request);  // builds and caches the K tables
+  const double cpu_start = cpu_seconds();
+  std::vector<float> values;
+  for (auto _ : state) {
+    Lut lut = detail::bake(request, node_path(state));
+    benchmark::DoNotOptimize(lut.values.data());
+    values = std::move(lut.values);
+  }
+  const double cpu = (cpu_seconds() - cpu_start) / double(state.iterations());
+  BakeReference& reference = bake_reference();
+  if (is_landed(state)) {
+    reference.cached = cpu;
+    reference.cached_values = values;
+  }
+  const bool per_node_simd = state.range(0) == 1 && state.range(1) == 0;
+  if (per_node_simd) reference.per_node_simd_values = values;
+  state.counters["cpu_s_all_threads"] = cpu;
+  if (reference.cached > 0.0) state.counters["speedup"] = reference.cached / cpu;
+  state.counters["max_table_diff"] = max_table_difference(values, reference.cached_values);
+  // The span path against the per-node path with the same (SIMD) series: what evaluate_many changes.
+  if (state.range(0) == 0) state.counters["diff_vs_per_node"] = max_table_difference(values, reference.per_node_simd_values);
+}
+BENCHMARK(BM_BakeMerlCached)->Name("bake/merl_cached")->Args({1, 1})->Args({1, 0})->Args({0, 0})->ArgNames({"per_node", "strided"})
+    ->Unit(benchmark::kSecond)->UseRealTime()->Iterations(3);
 
 // The kernel layout (54^3 x 3 channels of the angular factor, K tables built inside).
 void BM_BakeKernelCold(benchmark::State& state) {
@@ -93,17 +169,6 @@ void BM_BakeKernelCold(benchmark::State& state) {
 }
 BENCHMARK(BM_BakeKernelCold)->Name("bake/kernel_cold")->Unit(benchmark::kSecond)->UseRealTime()->Iterations(3);
 
-void BM_BakeMerlCached(benchmark::State& state) {
-  const BakeRequest request = merl_request(0.1);
-  (void)bake(request);  // builds and caches the K tables
-  const double cpu_start = cpu_seconds();
-  for (auto _ : state) {
-    const Lut lut = bake(request);
-    benchmark::DoNotOptimize(lut.values.data());
-  }
-  state.counters["cpu_s_all_threads"] = (cpu_seconds() - cpu_start) / double(state.iterations());
-}
-BENCHMARK(BM_BakeMerlCached)->Name("bake/merl_cached")->Unit(benchmark::kSecond)->UseRealTime()->Iterations(3);
 
 void BM_KTable(benchmark::State& state) {
   const double wavelength = double(state.range(0)) / 1000.0;

@@ -9,6 +9,7 @@
 #include <random>
 #include <sstream>
 
+#include "bake_internal.h"
 #include "libbrdf/error.h"
 #include "libbrdf/lut.h"
 #include "libbrdf/version.h"
@@ -88,6 +89,87 @@ void check_cancel(const BakeRequest& r) {
   throw std::runtime_error(out.str());
 }
 
+// The geometries of one row of a half/difference layout (rusinkiewicz, merl, slice: fixed theta_h
+// and theta_d, phi_d = pi k / span on every node k), as lut_node_angles + make_scatter_geometry
+// give them, without their per-node atan2 / remainder / sin / cos: the directions of
+// scatter_angles_from_half_difference (lut.cpp) in Cartesian form, i = R_y(theta_h) d and
+// s = 2 cos theta_d h - i, read off as cosines and sines (theta = atan2(rho, z) there), with the
+// horizon rule (polar angles limited to kHorizonThetaLimitDeg). Near the normal (rho < 1e-4) the
+// azimuth is ill-conditioned and the node takes the scalar path: row_geometries lists those nodes.
+struct RowFrame {
+  std::vector<double> cos_phi_d, sin_phi_d;  // per node of a row
+  double cos_limit, sin_limit;                // of the horizon limit
+};
+RowFrame row_frame(int row_length, double span) {
+  RowFrame f;
+  for (int k = 0; k < row_length; ++k) {
+    const double phi_d = kPi * k / span;  // as detail::angles_at_index
+    f.cos_phi_d.push_back(std::cos(phi_d));
+    f.sin_phi_d.push_back(std::sin(phi_d));
+  }
+  const double limit = degrees_to_radians(kHorizonThetaLimitDeg);
+  f.cos_limit = std::cos(limit);
+  f.sin_limit = std::sin(limit);
+  return f;
+}
+
+// sin and cos of theta_h, theta_d of a row (lut.h: the axis mappings, as detail::angles_at_index).
+struct RowTrig {
+  double sin_h, cos_h, sin_d, cos_d;
+};
+RowTrig row_trig(const Lut& lut, int i0, int i1, const std::array<double, 3>& span) {
+  const double t0 = i0 / span[0];
+  const double theta_h = 0.5 * kPi * t0 * t0;  // square map (the kernel layout is not baked by rows)
+  const double theta_d = lut.layout == LutLayout::slice ? slice_theta_d(lut.light, lut.view) : 0.5 * kPi * i1 / span[1];
+  return {std::sin(theta_h), std::cos(theta_h), std::sin(theta_d), std::cos(theta_d)};
+}
+
+// Incident and scattered directions of node k of a row (unit up to rounding, z may be <= 0).
+struct NodeDirections {
+  double ix, iy, iz, sx, sy, sz;
+};
+NodeDirections node_directions(const RowFrame& f, const RowTrig& t, int k) {
+  const double dx = t.sin_d * f.cos_phi_d[k], dy = t.sin_d * f.sin_phi_d[k];
+  NodeDirections n;
+  n.ix = dx * t.cos_h + t.cos_d * t.sin_h;
+  n.iy = dy;
+  n.iz = -dx * t.sin_h + t.cos_d * t.cos_h;
+  n.sx = 2.0 * t.cos_d * t.sin_h - n.ix;
+  n.sy = -n.iy;
+  n.sz = 2.0 * t.cos_d * t.cos_h - n.iz;
+  return n;
+}
+
+void row_geometries(const RowFrame& f, const RowTrig& t, int row_length, ScatterGeometry* geos,
+                    std::vector<int>& scalar_nodes) {
+  scalar_nodes.clear();
+  // cos and sin of a polar angle from (rho, z), limited to the horizon rule's angle.
+  auto polar = [&](double rho, double z, double& c, double& s) {
+    const double r = std::sqrt(rho * rho + z * z);
+    c = z / r;
+    s = rho / r;
+    if (c < f.cos_limit) {
+      c = f.cos_limit;
+      s = f.sin_limit;
+    }
+  };
+  for (int k = 0; k < row_length; ++k) {
+    const NodeDirections n = node_directions(f, t, k);
+    const double rho_i = std::sqrt(n.ix * n.ix + n.iy * n.iy), rho_s = std::sqrt(n.sx * n.sx + n.sy * n.sy);
+    if (!(rho_i > 1e-4 && rho_s > 1e-4)) {
+      scalar_nodes.push_back(k);
+      continue;
+    }
+    double ci, si, cs, ss;
+    polar(rho_i, n.iz, ci, si);
+    polar(rho_s, n.sz, cs, ss);
+    // phi_s = azimuth of s - azimuth of i.
+    const double inv = 1.0 / (rho_i * rho_s);
+    geos[k] = scatter_geometry_from_trig(ci, si, cs, ss, (n.ix * n.sx + n.iy * n.sy) * inv,
+                                         (n.ix * n.sy - n.iy * n.sx) * inv);
+  }
+}
+
 // Node values of every channel, multi-threaded, in ~100 chunks of rows so that the calling thread
 // reports progress and honours the cancel flag between chunks (and the workers inside them).
 // A row is the phi_d axis (the last axis; the second for the slice). Along phi_d the ASF of eq. 11
@@ -95,15 +177,18 @@ void check_cancel(const BakeRequest& r) {
 // eta_r = 2 cos td sin th: it is computed once per row (Model::asf_at) and passed to
 // Model::evaluate(geo, asf) at every node of the row -- also at nodes whose directions the
 // horizon rule limits (lut.h: they hold the ASF of their own (theta_h, theta_d)).
-void bake_nodes(const BakeRequest& r, const std::vector<Model>& models, Lut& lut) {
+void bake_nodes(const BakeRequest& r, const std::vector<Model>& models, Lut& lut, detail::BakeNodePath path) {
   const int channels = lut.channels();
   const std::size_t nodes = lut.nodes_per_channel();
   const bool slice = lut.layout == LutLayout::slice;
   const bool kernel = lut.layout == LutLayout::kernel;
+  // The kernel layout divides each node by its own K and F (lut.h): node by node.
+  const bool span_path = path == detail::BakeNodePath::span && !kernel;
   const int row_length = slice ? lut.shape[1] : lut.shape[2];
   const int rows = static_cast<int>(nodes / row_length);
   const std::array<double, 3> span = detail::lut_axis_spans(lut.layout, lut.shape);
   lut.values.assign(nodes * channels, 0.0f);
+  const RowFrame frame = row_frame(row_length, slice ? span[1] : span[2]);
   const int chunks = std::min(rows, 100);
   for (int chunk = 0; chunk < chunks; ++chunk) {
     check_cancel(r);
@@ -111,6 +196,9 @@ void bake_nodes(const BakeRequest& r, const std::vector<Model>& models, Lut& lut
     const int end = static_cast<int>(static_cast<long long>(rows) * (chunk + 1) / chunks);
     tbb::parallel_for(tbb::blocked_range<int>(begin, end, 1), [&](const tbb::blocked_range<int>& range) {
       std::vector<double> row_asf(channels);
+      std::vector<int> scalar_nodes;
+      std::vector<ScatterGeometry> row_geos(row_length);
+      std::vector<double> asf_values(row_length), values(row_length);
       for (int row = range.begin(); row != range.end(); ++row) {
         if (r.cancel && r.cancel->load(std::memory_order_relaxed)) return;
         const int i0 = slice ? row : row / lut.shape[1];
@@ -124,10 +212,28 @@ void bake_nodes(const BakeRequest& r, const std::vector<Model>& models, Lut& lut
           const ScatterGeometry middle_geo = make_scatter_geometry(middle);
           for (int c = 0; c < channels; ++c) row_asf[c] = models[c].uses_asf() ? models[c].asf_at(middle_geo) : 0.0;
         }
+        const std::size_t row_start = static_cast<std::size_t>(row) * row_length;
+        auto node_angles = [&](int k) {
+          return lut_node_angles(lut.layout, lut.shape, i0, slice ? k : i1, slice ? 0 : k, lut.light, lut.view);
+        };
+        auto store = [&](int k, int c, double value) {
+          if (!(std::abs(value) <= double(FLT_MAX))) non_finite(node_angles(k), c, value);
+          lut.values[c * nodes + row_start + k] = static_cast<float>(value);
+        };
+        if (span_path) {  // the row as one span: its geometries, then Model::evaluate_many per channel
+          row_geometries(frame, row_trig(lut, i0, i1, span), row_length, row_geos.data(), scalar_nodes);
+          for (int k : scalar_nodes) row_geos[k] = make_scatter_geometry(node_angles(k));
+          for (int c = 0; c < channels; ++c) {
+            const bool given = row_feasible && models[c].uses_asf();
+            if (given) std::fill(asf_values.begin(), asf_values.end(), row_asf[c]);
+            models[c].evaluate_many(row_geos.data(), row_length, values.data(), given ? asf_values.data() : nullptr);
+            for (int k = 0; k < row_length; ++k) store(k, c, values[k]);
+          }
+          continue;
+        }
         for (int k = 0; k < row_length; ++k) {
-          const ScatterAngles angles = lut_node_angles(lut.layout, lut.shape, i0, slice ? k : i1, slice ? 0 : k, lut.light, lut.view);
+          const ScatterAngles angles = node_angles(k);
           const ScatterGeometry geo = make_scatter_geometry(angles);
-          const std::size_t index = static_cast<std::size_t>(row) * row_length + k;
           for (int c = 0; c < channels; ++c) {
             // kernel layout: the angular factor P = f(A = 1) / K(theta_i) (lut.h).
             const double value = kernel ? models[c].evaluate(geo, 1.0) / (models[c].renormalization(angles.theta_i) *
@@ -135,8 +241,7 @@ void bake_nodes(const BakeRequest& r, const std::vector<Model>& models, Lut& lut
                                                                           detail::kernel_closed_form_factor(lut.kernel_model, geo))
                                  : row_feasible && models[c].uses_asf() ? models[c].evaluate(geo, row_asf[c])
                                                                         : models[c].evaluate(geo);
-            if (!(std::abs(value) <= double(FLT_MAX))) non_finite(angles, c, value);
-            lut.values[c * nodes + index] = static_cast<float>(value);
+            store(k, c, value);
           }
         }
       }
@@ -175,7 +280,8 @@ double bake_side_tables(const std::vector<Model>& models, Lut& lut, std::uint64_
   return worst;
 }
 
-Lut bake_table(const BakeRequest& r, const std::vector<Model>& models, const std::array<int, 3>& shape) {
+Lut bake_table(const BakeRequest& r, const std::vector<Model>& models, const std::array<int, 3>& shape,
+               detail::BakeNodePath path) {
   Lut lut;
   lut.layout = r.layout;
   lut.shape = shape;
@@ -193,7 +299,7 @@ Lut bake_table(const BakeRequest& r, const std::vector<Model>& models, const std
     lut.light = r.light;
     lut.view = r.view;
   }
-  bake_nodes(r, models, lut);
+  bake_nodes(r, models, lut, path);
   const double side_error = bake_side_tables(models, lut, r.seed);
   lut.error = measure_lut_error(lut, models, r.error_samples, r.error_floor_fraction, r.seed, r.error_theta_limit_deg);
   check_cancel(r);
@@ -225,7 +331,9 @@ std::size_t node_count(const std::array<int, 3>& s, LutLayout layout) {
 
 }  // namespace
 
-Lut bake(const BakeRequest& r) {
+Lut bake(const BakeRequest& r) { return detail::bake(r, detail::BakeNodePath::span); }
+
+Lut detail::bake(const BakeRequest& r, BakeNodePath path) {
   validate_request(r);
   std::vector<Model> models;
   models.reserve(r.channels.size());
@@ -234,7 +342,7 @@ Lut bake(const BakeRequest& r) {
     models.emplace_back(r.model, p);  // validates the parameters; builds (or reuses) the K table
   }
   if (!r.target_error) {
-    Lut lut = bake_table(r, models, r.resolution ? *r.resolution : default_resolution(r.layout));
+    Lut lut = bake_table(r, models, r.resolution ? *r.resolution : default_resolution(r.layout), path);
     detail::check_lut_consistency(lut, "bake");
     return lut;
   }
@@ -242,7 +350,7 @@ Lut bake(const BakeRequest& r) {
   std::string trials;
   char buffer[64];
   for (;;) {
-    Lut lut = bake_table(r, models, shape);
+    Lut lut = bake_table(r, models, shape, path);
     if (r.trial_done) r.trial_done(lut.shape, lut.error);
     std::snprintf(buffer, sizeof buffer, "%.3g", lut.error.max_relative);
     trials += (trials.empty() ? "" : "; ") + shape_text(lut.shape, r.layout) + ": " + buffer;
@@ -302,10 +410,33 @@ LutError measure_lut_error(const Lut& lut, const std::vector<Model>& models, int
   // The floor: floor_fraction x the largest node value among the nodes inside the measured
   // domain (nodes near or below the horizon may hold much larger values for models that
   // diverge there, e.g. bk's F_bk^2; they must not raise the floor over the whole table).
+  // Rows of the half/difference layouts decide "feasible and inside" from the node directions
+  // (no per-node atan2); nodes within 1e-12 of either boundary in cosine take the angles.
+  const std::array<double, 3> axis_span = detail::lut_axis_spans(lut.layout, lut.shape);
+  const bool by_directions = lut.layout != LutLayout::kernel;
+  const RowFrame frame = row_frame(row_length, slice ? axis_span[1] : axis_span[2]);
+  const double cos_theta_limit = std::cos(theta_limit);
+  auto classify = [&](double x, double y, double z) {  // 1 inside, 0 not, -1 undecided
+    const double c = z / std::sqrt(x * x + y * y + z * z);
+    if (std::abs(c - cos_theta_limit) < 1e-12 || std::abs(c) < 1e-12 || !std::isfinite(c)) return -1;
+    return c > cos_theta_limit && c > 0.0 ? 1 : 0;
+  };
   std::vector<float> row_max(nodes / row_length, 0.0f);
   tbb::parallel_for(0, static_cast<int>(row_max.size()), [&](int row) {
+    const RowTrig trig = by_directions ? row_trig(lut, slice ? row : row / lut.shape[1], slice ? 0 : row % lut.shape[1], axis_span)
+                                       : RowTrig{};
     for (int k = 0; k < row_length; ++k) {
       const int i0 = slice ? row : row / lut.shape[1], i1 = slice ? k : row % lut.shape[1], i2 = slice ? 0 : k;
+      if (by_directions) {
+        const NodeDirections n = node_directions(frame, trig, k);
+        const int incident = classify(n.ix, n.iy, n.iz), scattered = classify(n.sx, n.sy, n.sz);
+        if (incident == 0 || scattered == 0) continue;
+        if (incident == 1 && scattered == 1) {
+          const std::size_t index = static_cast<std::size_t>(row) * row_length + k;
+          for (int c = 0; c < channels; ++c) row_max[row] = std::max(row_max[row], lut.values[c * nodes + index]);
+          continue;
+        }
+      }
       bool feasible = false;
       const ScatterAngles a = detail::angles_at_index(lut.layout, lut.shape, i0, i1, i2, lut.light, lut.view, &feasible);
       if (!feasible || !inside(a)) continue;

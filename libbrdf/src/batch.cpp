@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "libbrdf/error.h"
 #include "lut_internal.h"
@@ -51,8 +52,12 @@ InvalidQuery::InvalidQuery(const InvalidArgument& cause, std::size_t index)
 
 void evaluate_batch(const Model& model, const ScatterAngles* angles, std::size_t count, double* values) {
   validate_angles(angles, count);
+  // Per chunk: the geometry span (SIMD sines and cosines), then the model over the span (SIMD
+  // angular factors, batched ASF): no per-query virtual call or scalar trigonometry.
   for_each_chunk(count, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t k = begin; k < end; ++k) values[k] = model.evaluate(make_scatter_geometry(angles[k]));
+    std::vector<ScatterGeometry> geos(end - begin);
+    make_scatter_geometries(angles + begin, end - begin, geos.data());
+    model.evaluate_many(geos.data(), geos.size(), values + begin);
   });
 }
 

@@ -1,9 +1,11 @@
 #include "libbrdf/models.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <sstream>
 
+#include "angular_simd.h"
 #include "libbrdf/beckmann_kirchhoff.h"
 #include "libbrdf/error.h"
 
@@ -177,14 +179,77 @@ double Model::asf_at(const ScatterGeometry& geo) const {
   return asf_auto(asf_arguments(surface_, geo), params_.tolerance, nullptr, params_.series);
 }
 
+namespace {
+// Which of Model::Factors a model multiplies (the formulas in Model::combine).
+struct FactorNeeds {
+  bool k = false, q_bar = false, fresnel_d = false, asf = false;
+};
+FactorNeeds factor_needs(ModelKind kind, const ModelParameters& p, double sigma_g) {
+  FactorNeeds needs;
+  switch (kind) {
+    case ModelKind::fresnel: needs.fresnel_d = true; break;
+    case ModelKind::q: case ModelKind::mbk_polished: needs.q_bar = true; break;
+    case ModelKind::asf: needs.asf = true; break;
+    case ModelKind::mbk: needs.k = needs.q_bar = needs.asf = true; break;
+    case ModelKind::mbk_rough: needs.k = needs.q_bar = true; break;
+    case ModelKind::mbk_fg: needs.k = needs.fresnel_d = needs.asf = true; break;
+    case ModelKind::bk: case ModelKind::bk_modified: needs.fresnel_d = needs.asf = true; break;
+    case ModelKind::microfacet:
+      needs.k = !p.rho_s.has_value();  // rho_s = K (conventions.md)
+      needs.fresnel_d = sigma_g > 0.0;
+      break;
+    default: break;  // the other quantities are computed whole by combine()
+  }
+  return needs;
+}
+// theta_i only for the quantities tabulated over it (K, R_spec): an atan2 the others skip.
+double theta_i_of(const ScatterGeometry& geo) { return std::atan2(geo.sin_theta_i, geo.cos_theta_i); }
+}  // namespace
+
 double Model::evaluate_impl(const ScatterGeometry& geo, const double* asf_given) const {
-  // theta_i only for the quantities tabulated over it (K, R_spec): an atan2 the others skip.
-  auto theta_i = [&] { return std::atan2(geo.sin_theta_i, geo.cos_theta_i); };
-  auto fresnel_d = [&] { return fresnel_reflectance(permittivity_, geo.cos_theta_d); };
-  auto asf_value = [&] { return asf_given ? *asf_given : asf_at(geo); };
+  const FactorNeeds needs = factor_needs(kind_, params_, sigma_g_);
+  Factors f;
+  if (needs.k) f.k = renormalization(theta_i_of(geo));
+  if (needs.q_bar) f.q_bar = stover_q(permittivity_, geo).q_bar();
+  if (needs.fresnel_d) f.fresnel_d = fresnel_reflectance(permittivity_, geo.cos_theta_d);
+  if (needs.asf) f.asf = asf_given ? *asf_given : asf_at(geo);
+  return combine(geo, f);
+}
+
+void Model::evaluate_many(const ScatterGeometry* geos, std::size_t count, double* out, const double* asf) const {
+  const FactorNeeds needs = factor_needs(kind_, params_, sigma_g_);
+  const double eps_re = permittivity_.real(), eps_im = permittivity_.imag();
+  constexpr std::size_t kBlock = 256;
+  double k[kBlock], q_bar[kBlock], fresnel_d[kBlock], a[kBlock];
+  for (std::size_t begin = 0; begin < count; begin += kBlock) {
+    const std::size_t n = std::min(kBlock, count - begin);
+    const ScatterGeometry* span = geos + begin;
+    if (needs.k) {
+      if (k_table_) k_table_->at_geometries(span, n, k);
+      else std::fill(k, k + n, 1.0);
+    }
+    if (needs.q_bar) detail::stover_q_bar_span(eps_re, eps_im, span, n, q_bar);
+    if (needs.fresnel_d) detail::fresnel_d_span(eps_re, eps_im, span, n, fresnel_d);
+    // The ASF query by query (asf_auto): asf_auto_batch shares series terms between the lanes of
+    // neighbouring queries, and a value here must depend on its own geometry only (batch.h: a
+    // scalar call and an array call give the same bits).
+    if (needs.asf && !asf)
+      for (std::size_t j = 0; j < n; ++j) a[j] = asf_at(span[j]);
+    for (std::size_t j = 0; j < n; ++j) {
+      Factors f;
+      if (needs.k) f.k = k[j];
+      if (needs.q_bar) f.q_bar = q_bar[j];
+      if (needs.fresnel_d) f.fresnel_d = fresnel_d[j];
+      if (needs.asf) f.asf = asf ? asf[begin + j] : a[j];
+      out[begin + j] = combine(span[j], f);
+    }
+  }
+}
+
+double Model::combine(const ScatterGeometry& geo, const Factors& f) const {
   switch (kind_) {
-    case ModelKind::fresnel: return fresnel_d();
-    case ModelKind::q: return stover_q(permittivity_, geo).q_bar();
+    case ModelKind::fresnel: return f.fresnel_d;
+    case ModelKind::q: return f.q_bar;
     case ModelKind::q_ss: return stover_q(permittivity_, geo).ss;
     case ModelKind::q_sp: return stover_q(permittivity_, geo).sp;
     case ModelKind::q_ps: return stover_q(permittivity_, geo).ps;
@@ -193,30 +258,30 @@ double Model::evaluate_impl(const ScatterGeometry& geo, const double* asf_given)
     case ModelKind::rd: return relative_difference_rd(permittivity_, geo);
     case ModelKind::g: return roughness_g(surface_.sigma_over_lambda(), geo.cos_theta_i, geo.cos_theta_s);
     case ModelKind::eta_r2: return geo.eta_r2;
-    case ModelKind::asf: return asf_at(geo);  // K = 1; method by the tolerance (asf_auto)
-    case ModelKind::k: return renormalization_direct(surface_, theta_i(), params_.k_mode).k;
-    case ModelKind::r_spec: return specular_reflectance(theta_i());
+    case ModelKind::asf: return f.asf;  // K = 1; method by the tolerance (asf_auto)
+    case ModelKind::k: return renormalization_direct(surface_, theta_i_of(geo), params_.k_mode).k;
+    case ModelKind::r_spec: return specular_reflectance(theta_i_of(geo));
     case ModelKind::mbk:  // K Qbar A, eq. 11 x Q (conventions.md: Qbar)
-      return renormalization(theta_i()) * stover_q(permittivity_, geo).q_bar() * asf_value();
+      return f.k * f.q_bar * f.asf;
     case ModelKind::mbk_polished: {  // eq. 14 with Qbar: K = 1, e^-g = 1, m = 1
       const AsfArguments a = asf_arguments(surface_, geo);
-      return stover_q(permittivity_, geo).q_bar() * a.prefactor * mbk_series_polished(a.g, a.c);
+      return f.q_bar * a.prefactor * mbk_series_polished(a.g, a.c);
     }
     case ModelKind::mbk_rough: {  // eq. 15 with Qbar and K
       const AsfArguments a = asf_arguments(surface_, geo);
-      return renormalization(theta_i()) * stover_q(permittivity_, geo).q_bar() * a.prefactor * mbk_series_rough(a.g, a.c);
+      return f.k * f.q_bar * a.prefactor * mbk_series_rough(a.g, a.c);
     }
     case ModelKind::mbk_fg:  // eq. 31's form: K F(td) G / S * A
-      return renormalization(theta_i()) * fresnel_d() * geometric_term(params_.g_term, geo, sigma_g_) / s_term(geo) * asf_value();
+      return f.k * f.fresnel_d * geometric_term(params_.g_term, geo, sigma_g_) / s_term(geo) * f.asf;
     case ModelKind::bk:  // F(td) F_bk^2 A, eq. 26
-      return fresnel_d() * bk_geometric_factor_eq26(geo) * asf_value();
+      return f.fresnel_d * bk_geometric_factor_eq26(geo) * f.asf;
     case ModelKind::bk_modified:  // F(td) (1/S) A, eq. 28
-      return fresnel_d() * inverse_s_term_eq28(geo) * asf_value();
+      return f.fresnel_d * inverse_s_term_eq28(geo) * f.asf;
     case ModelKind::microfacet: {  // eq. 2 surface term + Lambertian
-      const double rho_s = params_.rho_s ? *params_.rho_s : renormalization(theta_i());  // rho_s = K
+      const double rho_s = params_.rho_s ? *params_.rho_s : f.k;  // rho_s = K
       double specular = 0.0;
       if (sigma_g_ > 0.0) {
-        specular = rho_s * fresnel_d() * gaussian_facet_distribution(geo.cos_theta_h, sigma_g_) *
+        specular = rho_s * f.fresnel_d * gaussian_facet_distribution(geo.cos_theta_h, sigma_g_) *
                    geometric_term(params_.g_term, geo, sigma_g_) / (4.0 * geo.cos_theta_i * geo.cos_theta_s);
       }
       return specular + params_.rho_d / kPi;

@@ -9,6 +9,7 @@
 #include <mutex>
 #include <tuple>
 
+#include "angular_simd.h"
 #include "libbrdf/error.h"
 #include "libbrdf/geometry.h"
 #include "libbrdf/mbk_series.h"
@@ -258,6 +259,17 @@ double RenormalizationTable::operator()(double theta_i) const {
   // can dip below 0 by its interpolation error, which must not turn into K < 1 (eq. 13: K >= 1).
   const double outside = std::max(0.0, hermite(outside_fraction_, outside_fraction_slope_, x));
   return 1.0 + -std::expm1(-roughness_g(surface_.sigma_over_lambda(), ci, 0.0)) * outside / disk;
+}
+
+void RenormalizationTable::at_geometries(const ScatterGeometry* geos, std::size_t count, double* k) const {
+  if (surface_.sigma_s_um == 0.0 || linear_only_) {  // the rare tables without the smooth factors
+    for (std::size_t j = 0; j < count; ++j) k[j] = (*this)(std::atan2(geos[j].sin_theta_i, geos[j].cos_theta_i));
+    return;
+  }
+  const detail::KTableView view{log_disk_.data(), log_disk_slope_.data(), outside_fraction_.data(),
+                                outside_fraction_slope_.data(), static_cast<int>(log_disk_.size()), scale_,
+                                surface_.sigma_over_lambda(), mode_ == KMode::tis};
+  detail::renormalization_span(view, geos, count, k);
 }
 
 std::shared_ptr<const RenormalizationTable> cached_renormalization_table(const Surface& surface, KMode mode) {

@@ -1,6 +1,7 @@
 // The models behind libbrdf::Model: reciprocity (Helmholtz), the original BK's non-reciprocity,
 // the very-rough identity of eq. 29 (mbk-fg -> microfacet), the specular spike, and hard inputs
-// for every model name (no NaN/Inf, no negative values).
+// for every model name (no NaN/Inf, no negative values), and the span path (evaluate_many) against
+// evaluate() for every model.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -293,6 +294,47 @@ TEST(HardCases, InvalidParametersNameTheParameter) {
     EXPECT_EQ(e.parameter(), "model");
   }
   for (ModelKind kind : all_models()) EXPECT_EQ(model_from_name(model_name(kind)), kind);
+}
+
+
+// ---------------------------------------------------------------------------------------------
+// The span path (Model::evaluate_many: SIMD K, Qbar, F(theta_d); batched ASF) against evaluate().
+
+TEST(SpanPath, EvaluateManyMatchesEvaluateForEveryModel) {
+  std::vector<ScatterAngles> angles = hard_angles();
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> polar(0.0, deg(89.99)), azimuth(-kPi, kPi);
+  for (int k = 0; k < 1500; ++k) angles.push_back({polar(rng), polar(rng), azimuth(rng)});
+  std::vector<HardSurface> surfaces = hard_surfaces();
+  surfaces.push_back({"kappa=1000", surface_parameters(0.05, 1.0, 0.5, {1.5, 1000.0})});
+  HardSurface given_rho{"microfacet rho_s given", surface_parameters(0.05, 1.0, 0.5, {1.5, 0.1})};
+  given_rho.params.rho_s = 0.7;
+  given_rho.params.rho_d = 0.1;
+  surfaces.push_back(given_rho);
+  for (const HardSurface& s : surfaces) {
+    for (ModelKind kind : all_models()) {
+      const Model model(kind, s.params);
+      std::vector<ScatterGeometry> geos;
+      for (const ScatterAngles& a : angles)
+        if (kind != ModelKind::k || a.theta_s == 0.0) geos.push_back(make_scatter_geometry(a));  // k: direct, slow
+      std::vector<double> asf(geos.size()), with_asf(geos.size()), without(geos.size());
+      for (std::size_t j = 0; j < geos.size(); ++j) asf[j] = model.asf_at(geos[j]);
+      model.evaluate_many(geos.data(), geos.size(), with_asf.data(), asf.data());
+      model.evaluate_many(geos.data(), geos.size(), without.data());
+      double worst_given = 0.0, worst_auto = 0.0;
+      for (std::size_t j = 0; j < geos.size(); ++j) {
+        const double given = model.evaluate(geos[j], asf[j]), automatic = model.evaluate(geos[j]);
+        ASSERT_TRUE(std::isfinite(without[j]) && without[j] >= 0.0) << model_name(kind) << " on " << s.name;
+        if (std::max(given, with_asf[j]) > kTiny) worst_given = std::max(worst_given, relative_difference(with_asf[j], given));
+        if (std::max(automatic, without[j]) > kTiny) worst_auto = std::max(worst_auto, relative_difference(without[j], automatic));
+      }
+      // Only the SIMD factors differ (a few ulp each): the ASF is asf_auto's in both paths.
+      // kappa = 1000 (|eps| = 1e6): Qbar at grazing is conditioned to ~1e-10 (test_fresnel.cpp).
+      const double bound = s.params.index && s.params.index->kappa > 100.0 ? 3e-10 : 1e-12;
+      EXPECT_LE(worst_given, bound) << model_name(kind) << " on " << s.name;
+      EXPECT_LE(worst_auto, bound) << model_name(kind) << " on " << s.name;
+    }
+  }
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // conservation, checked against the test's own hemispherical quadrature in (theta_s, phi_s).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <vector>
@@ -223,4 +224,30 @@ TEST(RenormalizationTable, NarrowLobesGetMoreNodes) {
   EXPECT_GT(RenormalizationTable::automatic_node_count(Surface{0.001, 1000.0, 1.0}), RenormalizationTable::kDefaultNodes);
 }
 
+}  // namespace
+
+namespace {
+// The span lookup (SIMD arctangent/arcsine for the node coordinate, same Hermite cubic) against
+// operator() at theta_i = atan2(sin, cos) of each geometry, from normal incidence to 0.0001 deg
+// below grazing, both modes, a narrow-lobe table (l_c/lambda = 1e3: more nodes) and a mirror.
+TEST(RenormalizationTable, SpanLookupMatchesScalarLookup) {
+  std::vector<ScatterGeometry> geos;
+  for (int k = 0; k <= 20000; ++k) {
+    const double ti = deg(89.9999) * k / 20000.0;
+    geos.push_back(make_scatter_geometry({ti, 0.3, 2.0}));
+  }
+  std::vector<double> k_span(geos.size());
+  for (const Surface& surface : {Surface{0.01, 5.0, 1.0}, Surface{0.1, 2.0, 1.0}, Surface{0.5, 3.0, 1.0},
+                                 Surface{0.005, 500.0, 0.5}, Surface{0.0, 1.0, 0.5}}) {
+    for (KMode mode : {KMode::plane, KMode::tis}) {
+      const auto table = cached_renormalization_table(surface, mode);
+      table->at_geometries(geos.data(), geos.size(), k_span.data());
+      double worst = 0.0;
+      for (std::size_t j = 0; j < geos.size(); ++j)
+        worst = std::max(worst, libbrdf_test::relative_difference(
+                                    k_span[j], (*table)(std::atan2(geos[j].sin_theta_i, geos[j].cos_theta_i))));
+      EXPECT_LE(worst, 1e-13) << "sigma_s " << surface.sigma_s_um << " l_c " << surface.lc_um << " tis " << (mode == KMode::tis);
+    }
+  }
+}
 }  // namespace

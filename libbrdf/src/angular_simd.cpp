@@ -1,0 +1,231 @@
+// The angular factors over spans of geometries (angular_simd.h) in SIMD through Google Highway
+// with run-time dispatch (as series_simd.cpp). Complex arithmetic is written out in real and
+// imaginary vectors; every operation is lane-wise, so a value never depends on its neighbours.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "angular_simd.cpp"
+#include <hwy/foreach_target.h>  // must come before highway.h
+#include <hwy/highway.h>
+#include <hwy/contrib/math/math-inl.h>
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "angular_simd.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace libbrdf::detail {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+// ScatterGeometry as an array of doubles: field offsets for the gathers.
+constexpr std::int64_t kGeoStride = sizeof(ScatterGeometry) / sizeof(double);
+static_assert(sizeof(ScatterGeometry) == 10 * sizeof(double), "ScatterGeometry: ten doubles, no padding");
+enum GeoField : std::int64_t { kCosI = 0, kSinI, kCosS, kSinS, kCosPhi, kSinPhi, kCos2D, kCosD, kCosH, kEta2 };
+
+// One field of `lanes` consecutive geometries.
+template <class D, class VI>
+HWY_INLINE hn::Vec<D> Field(D d, const ScatterGeometry* geos, GeoField field, VI offsets) {
+  return hn::GatherIndex(d, reinterpret_cast<const double*>(geos) + field, offsets);
+}
+
+// out[k] = kernel(geos + block start)[lane] over the span: full blocks, then the last block
+// shifted back to end at `count` (it recomputes a few values identically), or a padded copy when
+// the span is shorter than one vector.
+template <class D, class Kernel>
+HWY_INLINE void ForEachBlock(D d, const ScatterGeometry* geos, std::size_t count, double* out, const Kernel& kernel) {
+  const std::size_t n = hn::Lanes(d);
+  if (count == 0) return;
+  if (count < n) {
+    std::vector<ScatterGeometry> pad(n, geos[count - 1]);
+    std::vector<double> values(n);
+    for (std::size_t k = 0; k < count; ++k) pad[k] = geos[k];
+    hn::StoreU(kernel(pad.data()), d, values.data());
+    for (std::size_t k = 0; k < count; ++k) out[k] = values[k];
+    return;
+  }
+  std::size_t k = 0;
+  for (; k + n <= count; k += n) hn::StoreU(kernel(geos + k), d, out + k);
+  if (k < count) hn::StoreU(kernel(geos + count - n), d, out + count - n);
+}
+
+template <class D>
+HWY_INLINE hn::Vec<hn::RebindToSigned<D>> GeoOffsets(D d) {
+  const hn::RebindToSigned<D> di;
+  alignas(64) std::int64_t offsets[HWY_MAX_BYTES / sizeof(double)];
+  for (std::size_t k = 0; k < hn::Lanes(d); ++k) offsets[k] = static_cast<std::int64_t>(k) * kGeoStride;
+  return hn::Load(di, offsets);
+}
+
+// Principal square root of a + i b for b >= 0 (Im eps = 2 n kappa >= 0), as std::sqrt:
+// t = sqrt((|z| + |a|)/2) has no cancellation; the other part is b / 2t.
+template <class D, class V = hn::Vec<D>>
+HWY_INLINE void ComplexSqrt(D d, V a, V b, V* re, V* im) {
+  const V zero = hn::Zero(d), half = hn::Set(d, 0.5);
+  const V modulus = hn::Sqrt(hn::MulAdd(a, a, hn::Mul(b, b)));
+  const V t = hn::Sqrt(hn::Mul(half, hn::Add(modulus, hn::Abs(a))));
+  const V other = hn::IfThenZeroElse(hn::Eq(t, zero), hn::Div(hn::Mul(half, b), t));  // z = 0: w = 0
+  const auto negative = hn::Lt(a, zero);
+  *re = hn::IfThenElse(negative, other, t);
+  *im = hn::IfThenElse(negative, t, other);
+}
+
+template <class V>
+HWY_INLINE V Norm(V re, V im) {
+  return hn::MulAdd(re, re, hn::Mul(im, im));
+}
+
+void ScatterTrig(const ScatterAngles* angles, std::size_t count, double* trig) {
+  const hn::ScalableTag<double> d;
+  const hn::RebindToSigned<decltype(d)> di;
+  const std::size_t n = hn::Lanes(d);
+  alignas(64) std::int64_t in_offsets[HWY_MAX_BYTES / sizeof(double)], out_offsets[HWY_MAX_BYTES / sizeof(double)];
+  for (std::size_t k = 0; k < n; ++k) {
+    in_offsets[k] = static_cast<std::int64_t>(3 * k);
+    out_offsets[k] = static_cast<std::int64_t>(6 * k);
+  }
+  const auto in = hn::Load(di, in_offsets), out = hn::Load(di, out_offsets);
+  static_assert(sizeof(ScatterAngles) == 3 * sizeof(double), "ScatterAngles: three doubles");
+  auto block = [&](const ScatterAngles* block_angles, double* t) {
+    const double* a = reinterpret_cast<const double*>(block_angles);
+    for (int angle = 0; angle < 3; ++angle) {
+      const auto x = hn::GatherIndex(d, a + angle, in);
+      hn::ScatterIndex(hn::Cos(d, x), d, t + 2 * angle, out);
+      hn::ScatterIndex(hn::Sin(d, x), d, t + 2 * angle + 1, out);
+    }
+  };
+  std::size_t k = 0;
+  for (; k + n <= count; k += n) block(angles + k, trig + 6 * k);
+  if (k < count) {  // the remainder through a padded block: the same vector code for every query
+    std::vector<ScatterAngles> pad(n, angles[count - 1]);
+    std::vector<double> t(6 * n);
+    for (std::size_t j = k; j < count; ++j) pad[j - k] = angles[j];
+    block(pad.data(), t.data());
+    for (std::size_t j = 0; j < 6 * (count - k); ++j) trig[6 * k + j] = t[j];
+  }
+  // Azimuths outside Highway's range through the C library.
+  for (std::size_t j = 0; j < count; ++j) {
+    if (std::abs(angles[j].phi_s) <= 39000.0) continue;
+    trig[6 * j + 4] = std::cos(angles[j].phi_s);
+    trig[6 * j + 5] = std::sin(angles[j].phi_s);
+  }
+}
+
+void StoverQBarSpan(double eps_re, double eps_im, const ScatterGeometry* geos, std::size_t count, double* out) {
+  const hn::ScalableTag<double> d;
+  using V = hn::Vec<decltype(d)>;
+  const auto offsets = GeoOffsets(d);
+  const V er = hn::Set(d, eps_re), ei = hn::Set(d, eps_im), zero = hn::Zero(d);
+  // |eps - 1|^2, the common factor of the four Q's.
+  const V e2 = hn::Set(d, (eps_re - 1.0) * (eps_re - 1.0) + eps_im * eps_im);
+  ForEachBlock(d, geos, count, out, [&](const ScatterGeometry* g) {
+    const V ci = Field(d, g, kCosI, offsets), si = Field(d, g, kSinI, offsets);
+    const V cs = Field(d, g, kCosS, offsets), ss = Field(d, g, kSinS, offsets);
+    const V cphi = Field(d, g, kCosPhi, offsets), sphi = Field(d, g, kSinPhi, offsets);
+    V wir, wii, wsr, wsi;  // w = sqrt(eps - sin^2 theta) for i and s
+    ComplexSqrt(d, hn::NegMulAdd(si, si, er), ei, &wir, &wii);
+    ComplexSqrt(d, hn::NegMulAdd(ss, ss, er), ei, &wsr, &wsi);
+    const V n_si = Norm(hn::Add(ci, wir), wii), n_ss = Norm(hn::Add(cs, wsr), wsi);  // |cos + w|^2
+    const V n_pi = Norm(hn::MulAdd(er, ci, wir), hn::MulAdd(ei, ci, wii));            // |eps cos + w|^2
+    const V n_ps = Norm(hn::MulAdd(er, cs, wsr), hn::MulAdd(ei, cs, wsi));
+    // Stover's azimuth phi = phi_s - pi: cos phi = -cos phi_s; only squares and the pp term use it.
+    const V cos_phi = hn::Sub(zero, cphi);
+    const V sin2 = hn::Mul(sphi, sphi);
+    const V q_ss = hn::Div(hn::Mul(e2, hn::Mul(cos_phi, cos_phi)), hn::Mul(n_si, n_ss));
+    const V q_sp = hn::Div(hn::Mul(hn::Mul(e2, Norm(wsr, wsi)), sin2), hn::Mul(n_si, n_ps));
+    const V q_ps = hn::Div(hn::Mul(hn::Mul(e2, Norm(wir, wii)), sin2), hn::Mul(n_pi, n_ss));
+    // pp: |wi ws cos phi - eps sin ti sin ts|^2.
+    const V sin_product = hn::Mul(si, ss);
+    const V prod_re = hn::NegMulAdd(wii, wsi, hn::Mul(wir, wsr)), prod_im = hn::MulAdd(wir, wsi, hn::Mul(wii, wsr));
+    const V a_re = hn::NegMulAdd(er, sin_product, hn::Mul(prod_re, cos_phi));
+    const V a_im = hn::NegMulAdd(ei, sin_product, hn::Mul(prod_im, cos_phi));
+    const V q_pp = hn::Div(hn::Mul(e2, Norm(a_re, a_im)), hn::Mul(n_pi, n_ps));
+    return hn::Mul(hn::Set(d, 0.5), hn::Add(hn::Add(q_ss, q_sp), hn::Add(q_ps, q_pp)));
+  });
+}
+
+void FresnelDSpan(double eps_re, double eps_im, const ScatterGeometry* geos, std::size_t count, double* out) {
+  const hn::ScalableTag<double> d;
+  using V = hn::Vec<decltype(d)>;
+  const auto offsets = GeoOffsets(d);
+  const V er = hn::Set(d, eps_re), ei = hn::Set(d, eps_im), one = hn::Set(d, 1.0);
+  ForEachBlock(d, geos, count, out, [&](const ScatterGeometry* g) {
+    const V c = Field(d, g, kCosD, offsets);
+    const V sin2 = hn::Max(hn::Zero(d), hn::NegMulAdd(c, c, one));
+    V wr, wi;
+    ComplexSqrt(d, hn::Sub(er, sin2), ei, &wr, &wi);
+    // |a/b|^2 as |a|^2/|b|^2 (fresnel.cpp): = 1 exactly under total internal reflection.
+    const V r_s = hn::Div(Norm(hn::Sub(c, wr), wi), Norm(hn::Add(c, wr), wi));
+    const V ecr = hn::Mul(er, c), eci = hn::Mul(ei, c);
+    const V r_p = hn::Div(Norm(hn::Sub(ecr, wr), hn::Sub(eci, wi)), Norm(hn::Add(ecr, wr), hn::Add(eci, wi)));
+    return hn::Mul(hn::Set(d, 0.5), hn::Add(r_s, r_p));
+  });
+}
+
+void RenormalizationSpan(const KTableView& table, const ScatterGeometry* geos, std::size_t count, double* out) {
+  const hn::ScalableTag<double> d;
+  const hn::RebindToSigned<decltype(d)> di;
+  using V = hn::Vec<decltype(d)>;
+  const auto offsets = GeoOffsets(d);
+  const V zero = hn::Zero(d), one = hn::Set(d, 1.0), two = hn::Set(d, 2.0), three = hn::Set(d, 3.0);
+  const V last_cell = hn::Set(d, double(table.nodes - 2)), scale = hn::Set(d, table.scale);
+  const V k_sigma = hn::Set(d, 2.0 * 3.14159265358979323846 * table.sigma_over_lambda);
+  ForEachBlock(d, geos, count, out, [&](const ScatterGeometry* g) {
+    const V ci = Field(d, g, kCosI, offsets), si = Field(d, g, kSinI, offsets);
+    // theta_i = atan(sin/cos) (cos > 0 above the horizon), then the node coordinate
+    // y = (2/pi) asin(theta_i / (pi/2)) of renormalization.cpp.
+    const V theta = hn::Atan(d, hn::Min(hn::Div(si, ci), hn::Set(d, 1e300)));
+    const V fraction = hn::Min(one, hn::Max(zero, hn::Mul(theta, hn::Set(d, 2.0 / 3.14159265358979323846))));
+    const V x = hn::Mul(hn::Mul(hn::Asin(d, fraction), hn::Set(d, 2.0 / 3.14159265358979323846)), scale);
+    const V cell = hn::Min(hn::Floor(x), last_cell);
+    const V t = hn::Sub(x, cell), t2 = hn::Mul(t, t), t3 = hn::Mul(t2, t);
+    const auto i0 = hn::ConvertTo(di, cell), i1 = hn::Add(i0, hn::Set(di, 1));
+    // Cubic Hermite basis (as renormalization.cpp's hermite()).
+    const V h00 = hn::Add(hn::Sub(hn::Mul(two, t3), hn::Mul(three, t2)), one);
+    const V h10 = hn::Add(hn::Sub(t3, hn::Mul(two, t2)), t);
+    const V h01 = hn::Add(hn::Mul(hn::Set(d, -2.0), t3), hn::Mul(three, t2));
+    const V h11 = hn::Sub(t3, t2);
+    auto hermite = [&](const double* f, const double* slope) {
+      return hn::Add(hn::Add(hn::Add(hn::Mul(h00, hn::GatherIndex(d, f, i0)), hn::Mul(h10, hn::GatherIndex(d, slope, i0))),
+                             hn::Mul(h01, hn::GatherIndex(d, f, i1))),
+                     hn::Mul(h11, hn::GatherIndex(d, slope, i1)));
+    };
+    const V disk = hn::Exp(d, hermite(table.log_disk, table.log_disk_slope));
+    if (table.tis) {  // K_tis = (1 - e^-g(ti, ti)) / D
+      const V k = hn::Mul(k_sigma, hn::Add(ci, ci));
+      return hn::Div(hn::Sub(zero, hn::Expm1(d, hn::Sub(zero, hn::Mul(k, k)))), disk);
+    }
+    // plane: K = 1 + (1 - e^-g1) r / D, r >= 0 (eq. 13, renormalization.h).
+    const V outside = hn::Max(zero, hermite(table.outside_fraction, table.outside_fraction_slope));
+    const V k1 = hn::Mul(k_sigma, ci);
+    const V total1 = hn::Sub(zero, hn::Expm1(d, hn::Sub(zero, hn::Mul(k1, k1))));
+    return hn::Add(one, hn::Div(hn::Mul(total1, outside), disk));
+  });
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace libbrdf::detail
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace libbrdf::detail {
+HWY_EXPORT(ScatterTrig);
+HWY_EXPORT(StoverQBarSpan);
+HWY_EXPORT(FresnelDSpan);
+HWY_EXPORT(RenormalizationSpan);
+
+void scatter_trig(const ScatterAngles* angles, std::size_t count, double* trig) {
+  HWY_DYNAMIC_DISPATCH(ScatterTrig)(angles, count, trig);
+}
+void stover_q_bar_span(double eps_re, double eps_im, const ScatterGeometry* geos, std::size_t count, double* out) {
+  HWY_DYNAMIC_DISPATCH(StoverQBarSpan)(eps_re, eps_im, geos, count, out);
+}
+void fresnel_d_span(double eps_re, double eps_im, const ScatterGeometry* geos, std::size_t count, double* out) {
+  HWY_DYNAMIC_DISPATCH(FresnelDSpan)(eps_re, eps_im, geos, count, out);
+}
+void renormalization_span(const KTableView& table, const ScatterGeometry* geos, std::size_t count, double* out) {
+  HWY_DYNAMIC_DISPATCH(RenormalizationSpan)(table, geos, count, out);
+}
+}  // namespace libbrdf::detail
+#endif

@@ -1,0 +1,39 @@
+#pragma once
+// Internal: the angular factors of the models over spans of geometries, in SIMD (Google Highway,
+// run-time dispatch; angular_simd.cpp). Each value depends only on its own geometry (no lane
+// mixes with another), so results do not depend on the span's length, split or position.
+// Accuracy against the scalar functions: a few ulp of Highway's Sin/Cos/Atan/Asin/Exp/Expm1 (1-4
+// ulp) propagated through the formulas; <= 1e-13 relative (tests/cpp/test_fresnel.cpp,
+// test_renormalization.cpp, test_geometry.cpp), except Qbar at grazing for |eps| ~ 1e6, where the
+// scalar formula itself is good to ~1e-10 only (both agree to 3e-10 there).
+#include <cstddef>
+
+#include "libbrdf/geometry.h"
+
+namespace libbrdf::detail {
+
+// sin and cos of the three angles of each query: trig[6 k + 0..5] = cos ti, sin ti, cos ts, sin ts,
+// cos phi_s, sin phi_s. |phi_s| beyond Highway's range (39000 rad) goes through std::sin/cos.
+void scatter_trig(const ScatterAngles* angles, std::size_t count, double* trig);
+
+// Qbar = (Q_s + Q_p)/2 of Stover (fresnel.h, stover_q) at each geometry, permittivity eps.
+void stover_q_bar_span(double eps_re, double eps_im, const ScatterGeometry* geos, std::size_t count, double* out);
+
+// F(theta_d) (fresnel.h, fresnel_reflectance at geos[k].cos_theta_d).
+void fresnel_d_span(double eps_re, double eps_im, const ScatterGeometry* geos, std::size_t count, double* out);
+
+// The smooth factors of K (renormalization.h) on their nodes and what rebuilds K from them.
+struct KTableView {
+  const double* log_disk;
+  const double* log_disk_slope;
+  const double* outside_fraction;
+  const double* outside_fraction_slope;
+  int nodes;
+  double scale;              // node index per unit of the node coordinate y
+  double sigma_over_lambda;  // of the surface K is computed for
+  bool tis;
+};
+// K(theta_i) at each geometry, as RenormalizationTable::operator() with theta_i = atan(sin/cos).
+void renormalization_span(const KTableView& table, const ScatterGeometry* geos, std::size_t count, double* out);
+
+}  // namespace libbrdf::detail
