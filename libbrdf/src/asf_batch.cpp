@@ -321,13 +321,19 @@ void KernelTableLanes(const double* nodes, int nx, int nz, double x_min, double 
   const std::size_t n = hn::Lanes(d);
   const V one = hn::Set(d, 1.0), two = hn::Set(d, 2.0), three = hn::Set(d, 3.0);
   const V vdx = hn::Set(d, dx), vdz = hn::Set(d, dz);
+  const V inv_dx = hn::Set(d, 1.0 / dx), inv_dz = hn::Set(d, 1.0 / dz);
   alignas(64) double gb[kMaxLanes], cb[kMaxLanes], out[kMaxLanes];
   for (std::size_t k = 0; k < count; k += n) {
     const std::size_t m = std::min(n, count - k);
-    for (std::size_t j = 0; j < n; ++j) gb[j] = j < m ? g[k + j] : 1.0, cb[j] = j < m ? c[k + j] : 0.0;
-    const V vg = hn::Load(d, gb), vc = hn::Load(d, cb);
-    const V ux = hn::Div(hn::Sub(hn::Log(d, vg), hn::Set(d, x_min)), vdx);
-    const V uz = hn::Div(hn::Sqrt(hn::Div(vc, hn::Add(vg, one))), vdz);
+    V vg, vc;
+    if (m == n) {
+      vg = hn::LoadU(d, g + k), vc = hn::LoadU(d, c + k);
+    } else {  // the last, partial vector through a padded copy
+      for (std::size_t j = 0; j < n; ++j) gb[j] = j < m ? g[k + j] : 1.0, cb[j] = j < m ? c[k + j] : 0.0;
+      vg = hn::Load(d, gb), vc = hn::Load(d, cb);
+    }
+    const V ux = hn::Mul(hn::Sub(hn::Log(d, vg), hn::Set(d, x_min)), inv_dx);
+    const V uz = hn::Mul(hn::Sqrt(hn::Div(vc, hn::Add(vg, one))), inv_dz);
     const V fi = hn::Min(hn::Floor(ux), hn::Set(d, nx - 2.0)), fj = hn::Min(hn::Floor(uz), hn::Set(d, nz - 2.0));
     const V s = hn::Sub(ux, fi), t = hn::Sub(uz, fj);
     const auto base = hn::ConvertTo(di, hn::Mul(hn::Set(d, 4.0), hn::MulAdd(fi, hn::Set(d, nz), fj)));
@@ -349,8 +355,12 @@ void KernelTableLanes(const double* nodes, int nx, int nz, double x_min, double 
         f = hn::MulAdd(hx[a], hn::MulAdd(hz[b], f0, hn::Mul(gz[b], fz)), f);
         f = hn::MulAdd(gx[a], hn::MulAdd(hz[b], fx, hn::Mul(gz[b], fxz)), f);
       }
-    hn::Store(hn::Exp(d, f), d, out);
-    std::copy(out, out + m, sigma + k);
+    if (m == n) {
+      hn::StoreU(hn::Exp(d, f), d, sigma + k);
+    } else {
+      hn::Store(hn::Exp(d, f), d, out);
+      std::copy(out, out + m, sigma + k);
+    }
   }
 }
 

@@ -57,10 +57,6 @@ KernelTable::KernelTable() {
   build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-bool KernelTable::contains(double g, double c) const {
-  return g >= kKernelGMin && g <= kKernelGMax && c >= 0.0 && c <= kKernelZMax * kKernelZMax * (g + 1.0);
-}
-
 double KernelTable::sigma(double g, double c) const {
   const double u_x = (std::log(g) - x_min_) / dx_;
   const double u_z = std::sqrt(c / (g + 1.0)) / dz_;

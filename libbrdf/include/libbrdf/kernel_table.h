@@ -40,7 +40,9 @@ class KernelTable {
   static const KernelTable& instance();
 
   // True when (g, c) lies inside the table: kKernelGMin <= g <= kKernelGMax, z <= kKernelZMax.
-  bool contains(double g, double c) const;
+  bool contains(double g, double c) const {  // inline: asf_auto_batch asks it for every query
+    return g >= kKernelGMin && g <= kKernelGMax && c >= 0.0 && c <= kKernelZMax * kKernelZMax * (g + 1.0);
+  }
   // Sigma(g, c) by bicubic Hermite interpolation of ln Sigma; only for contains(g, c).
   double sigma(double g, double c) const;
   // sigma[k] = sigma(g[k], c[k]) for k < count, one query per SIMD lane (gathers); the same
