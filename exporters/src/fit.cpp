@@ -141,9 +141,14 @@ double beckmann_value(double alpha, double nl, double nv, double nh) {
   return d * g1(nl) * g1(nv) / (4.0 * nv);
 }
 
-double blinn_value(double n, double nl, double nh) {
+// POV-Ray's highlight of a blinn-shape lobe: Blinn (N.H)^n or Phong (R.L)^n, R = 2 (N.V) N - V, so
+// R.L = 2 N.V N.L - V.L with V.L = (N.L + N.V)^2 / (2 (N.H)^2) - 1 (from H = (L + V) / |L + V|).
+double highlight_value(const Lobe& lobe, double nl, double nv, double nh) {
   if (!(nl > 0.0) || !(nh > 0.0)) return 0.0;
-  return std::pow(nh, n);
+  if (!lobe.phong) return std::pow(nh, lobe.roughness);
+  const double vl = (nl + nv) * (nl + nv) / (2.0 * nh * nh) - 1.0;
+  const double rl = 2.0 * nv * nl - vl;
+  return rl > 0.0 ? std::pow(std::min(rl, 1.0), lobe.roughness) : 0.0;
 }
 
 // Non-negative least squares on normal equations (Lawson & Hanson's active-set method):
@@ -283,7 +288,7 @@ double solve_colours(LobeShape shape, bool signed_colours, std::vector<Lobe>& lo
         share = 1.0 - fm;
         for (int j = 0; j < J; ++j) {
           const Lobe& l = lobes[static_cast<std::size_t>(j)];
-          value[static_cast<std::size_t>(j)] = blinn_value(l.roughness, p.nl, p.nh);
+          value[static_cast<std::size_t>(j)] = highlight_value(l, p.nl, p.nv, p.nh);
           offset += l.specular * value[static_cast<std::size_t>(j)] * fm;
         }
       } else {
@@ -507,6 +512,25 @@ std::vector<Lobe> refine(LobeShape shape, bool signed_colours, std::vector<Lobe>
   return out;
 }
 
+// Blinn exponents 2..2e4 and Phong exponents 1..1e4 (log-spaced: (R.L)^p ~ (N.H)^(4p), fit.h),
+// colours fitted together, sorted by S (heaviest first); lobes the NNLS left at 0 are dropped.
+std::vector<Lobe> ranked_ladder(const FitRequest& request, const std::vector<Pixel>& train) {
+  constexpr int kBlinn = 16, kPhong = 14;
+  std::vector<Lobe> lobes;
+  for (int i = 0; i < kBlinn + kPhong; ++i) {
+    Lobe l;
+    l.phong = i >= kBlinn;
+    l.roughness = l.phong ? std::pow(10.0, 4.0 * (i - kBlinn) / (kPhong - 1)) : 2.0 * std::pow(10.0, 4.0 * i / (kBlinn - 1));
+    lobes.push_back(l);
+  }
+  solve_colours(request.shape, request.signed_colours, lobes, train);
+  std::vector<Lobe> used;
+  for (const Lobe& l : lobes)
+    if (l.specular > 1e-6) used.push_back(l);  // solve_colours gives an unused lobe S = 1e-6
+  std::stable_sort(used.begin(), used.end(), [](const Lobe& a, const Lobe& b) { return a.specular > b.specular; });
+  return used;
+}
+
 }  // namespace
 
 double bernstein(int k, double mu) {
@@ -541,7 +565,7 @@ double lobe_radiance(LobeShape shape, const Lobe& lobe, int channel, double n_do
   if (shape == LobeShape::ggx) return c * ggx_value(lobe.roughness, n_dot_l, n_dot_v, n_dot_h);
   if (shape == LobeShape::beckmann) return c * beckmann_value(lobe.roughness, n_dot_l, n_dot_v, n_dot_h);
   const double fm = povray_metallic_weight(n_dot_l);
-  return lobe.specular * blinn_value(lobe.roughness, n_dot_l, n_dot_h) * (fm + (1.0 - fm) * c);
+  return lobe.specular * highlight_value(lobe, n_dot_l, n_dot_v, n_dot_h) * (fm + (1.0 - fm) * c);
 }
 
 double NativeFit::radiance(int channel, double n_dot_l, double n_dot_v, double n_dot_h) const {
@@ -584,6 +608,10 @@ NativeFit fit_native_lobes(const std::vector<Model>& models, const FitRequest& r
     return fit;
   }
   const Model& reference = models[models.size() / 2];
+  // POV-Ray: Blinn and Phong lobes, whose kinds the greedy growth below cannot choose well (a
+  // lobe's kind is fixed once added): a ladder of both kinds, all fitted at once (NNLS) and ranked
+  // by their weight S, offers each count J its J heaviest as one more start.
+  const std::vector<Lobe> ladder = request.shape == LobeShape::blinn ? ranked_ladder(request, train) : std::vector<Lobe>{};
   NativeFit best;
   std::vector<Lobe> previous;
   int stalls = 0;
@@ -593,16 +621,29 @@ NativeFit fit_native_lobes(const std::vector<Model>& models, const FitRequest& r
     std::vector<Lobe> lobes(static_cast<std::size_t>(J));
     const std::vector<double> widths = initial_widths(reference, J);
     for (int j = 0; j < J; ++j) lobes[static_cast<std::size_t>(j)].roughness = roughness_from_width(request.shape, widths[static_cast<std::size_t>(j)]);
+    std::vector<std::vector<Lobe>> candidates{lobes};
     if (!previous.empty()) {
-      std::vector<Lobe> grown = previous;
-      Lobe extra = J % 2 == 0 ? grown.back() : grown.front();  // sorted sharpest first
+      Lobe extra = J % 2 == 0 ? previous.back() : previous.front();  // sorted sharpest first
       const double factor = request.shape == LobeShape::blinn ? (J % 2 == 0 ? 0.5 : 2.0) : (J % 2 == 0 ? 1.5 : 0.7);
       extra.roughness = clamp_roughness(request.shape, extra.roughness * factor);
-      grown.push_back(extra);
-      std::vector<Lobe> a = grown, b = lobes;
-      if (solve_colours(request.shape, request.signed_colours, a, train) <
-          solve_colours(request.shape, request.signed_colours, b, train))
-        lobes = grown;
+      candidates.push_back(previous);
+      candidates.back().push_back(extra);
+      if (request.shape == LobeShape::blinn) {  // or the extra lobe as a Phong highlight (fit.h)
+        extra.phong = !extra.phong;
+        // (R.L)^p ~ (N.H)^(4p) near the peak (the angle from R to L is ~ 2 theta_h in the plane).
+        extra.roughness = clamp_roughness(request.shape, extra.phong ? 0.25 * extra.roughness : 4.0 * extra.roughness);
+        candidates.push_back(previous);
+        candidates.back().push_back(extra);
+      }
+    }
+    if (static_cast<int>(ladder.size()) >= J) candidates.emplace_back(ladder.begin(), ladder.begin() + J);
+    if (candidates.size() > 1) {
+      double lowest = std::numeric_limits<double>::infinity();
+      for (const std::vector<Lobe>& candidate : candidates) {
+        std::vector<Lobe> trial = candidate;
+        const double objective = solve_colours(request.shape, request.signed_colours, trial, train);
+        if (objective < lowest) lowest = objective, lobes = candidate;
+      }
     }
     NativeFit trial = fit;
     trial.lobes = refine(request.shape, request.signed_colours, lobes, train, 40 + 25 * J);

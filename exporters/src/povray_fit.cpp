@@ -27,6 +27,7 @@ FinishFit fit_finish(const HalfVectorSlice& slice, const std::vector<Model>& mod
   fit::FitRequest request;
   request.shape = fit::LobeShape::blinn;
   request.target_error = target_error;
+  request.max_lobes = 8;  // a lobe is one more texture of the average: cheap in POV-Ray
   fit.lobes = fit::fit_native_lobes(models, request);
   for (int k = 0; k < channels; ++k) {
     const auto ku = static_cast<std::size_t>(k);

@@ -71,8 +71,10 @@ std::string fit_textures(const std::string& N, const FinishFit& fit) {
     }
     // The average divides by the lobe count: each lobe's S is multiplied by it.
     out << " } }\n"
-        << "  finish { ambient 0 emission 0 diffuse 0 specular " << number(count * l.specular) << " roughness "
-        << number(1.0 / l.roughness) << " metallic 1\n"
+        << "  finish { ambient 0 emission 0 diffuse 0 "
+        << (l.phong ? "phong " + number(count * l.specular) + " phong_size " + number(l.roughness)
+                    : "specular " + number(count * l.specular) + " roughness " + number(1.0 / l.roughness))
+        << " metallic 1\n"
         << "           " << reflection << " }\n"
         << "}\n";
   }
@@ -160,10 +162,10 @@ std::string include_text(const std::string& name, ModelKind model, const std::ve
               ? "max " + percent(slice.error.max_relative) + ", rms " + percent(slice.error.rms_relative)
               : std::string("n/a (no such normal is lit and seen)"))
       << "; up to the horizon (silhouettes) max " << percent(slice.error.max_relative_all) << ".\n"
-      << "// " << N << "_Fit: " << fit.lobes.lobes.size() << " Blinn lobe(s) (specular, metallic 1, pigment following N.V through\n"
+      << "// " << N << "_Fit: " << fit.lobes.lobes.size() << " Blinn or Phong lobe(s) (specular or phong, metallic 1, pigment following N.V through\n"
       << "//   slope { " << N << "_View_Direction }) averaged by a texture_map, + reflection fitted to R_spec = F exp(-g).\n"
       << "//   Measured per pixel and channel against the exact radiance f_r cos(theta_i) on orthographic spheres lit\n"
-      << "//   by one sun at 10..125 deg from the camera (theta_i, theta_s <= 70 deg, values above 1% of the maximum):\n"
+      << "//   by one sun at 10, 40, 70, 100 deg from the camera (theta_i, theta_s <= 70 deg, values above 1% of the maximum):\n"
       << "//   median " << percent(fit.lobes.quality.median) << ", p95 " << percent(fit.lobes.quality.p95) << ", max "
       << percent(fit.lobes.quality.max) << " (target p95 " << percent(fit.lobes.target_error)
       << (fit.lobes.target_met ? "" : ", not met") << "); peak (N = H) fit/exact " << vector3(fit.peak_ratio, 3)

@@ -47,9 +47,14 @@ enum class LobeShape {
   // Blender's Glossy BSDF, Beckmann, as Cycles evaluates it (EEVEE renders it as GGX):
   //   D = exp(-tan^2 theta_h / a^2) / (pi a^2 cos^4 theta_h), Smith G1 in Walter et al.'s rational form.
   beckmann,
-  // POV-Ray 3.7's Blinn specular with metallic 1 (checked against renders: tests/povray/):
-  //   radiance / E = S (N.H)^n (F_m(N.L) + (1 - F_m(N.L)) c(mu_v)),  POV-Ray roughness = 1/n,
+  // POV-Ray 3.7's highlights with metallic 1 (checked against renders: tests/povray/), each lobe
+  // either the Blinn specular or the Phong highlight (Lobe::phong):
+  //   radiance / E = S h (F_m(N.L) + (1 - F_m(N.L)) c(mu_v)),  h = (N.H)^n (specular S, POV-Ray
+  //   roughness = 1/n) or h = (R.L)^n (phong S, phong_size n; R = V mirrored about N),
   //   F_m POV-Ray's empirical metallic weight; the pigment c is a slope { view } colour_map.
+  // Why Phong too: at fixed N.H, (R.L)^n still varies with N.L and N.V (R.L = 2 N.V N.L - V.L), the
+  // dependence a rough MBK lobe's radiance f_r cos(theta_i) has and a Blinn lobe times c(N.V) lacks
+  // (POV-Ray renders, tests/povray/test_fit_render.py, median: rough Au 21% -> 18%, BK7 7.9% -> 7.1%).
   blinn,
 };
 
@@ -59,6 +64,7 @@ inline constexpr int kColourTerms = kColourDegree + 1;
 struct Lobe {
   double roughness = 0.1;  // ggx: alpha; blinn: exponent n
   double specular = 1.0;   // blinn: S (shared by the channels); ggx: 1
+  bool phong = false;      // blinn shape only: the Phong highlight (R.L)^n instead of (N.H)^n
   // Per channel, the Bernstein coefficients (>= 0) of the colour in mu_v = N.V (ggx: the BSDF's
   // colour; blinn: the pigment c).
   std::array<std::array<double, kColourTerms>, 3> colour{};
