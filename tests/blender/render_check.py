@@ -72,7 +72,7 @@ def description_surface(description_path):
 def brdf_eval(brdf, model, p, angles):
     """`brdf eval` of one channel (a dict of the description's "channels") at N angle triples."""
     return brdfcli.evaluate(brdf, model, *angles, wavelength=p["wavelength_um"], sigma_s=p["sigma_s_um"],
-                            lc=p["lc_um"], n=p["n"], k=p["kappa"])
+                            lc=p["lc_um"], n=p["n"], k=p["kappa"], k_mode=p.get("k_mode"))
 
 
 def predicted_radiance(brdf, model, channels, normals, light, view, strength, colour):
