@@ -82,15 +82,7 @@ void evaluate_directions_batch(const Model& model, const double* to_light, const
 }
 
 void lookup_all_batch(const Lut& lut, const ScatterGeometry* geometries, std::size_t count, double* values) {
-  constexpr std::size_t kAnglesChunk = 256;
-  detail::TableAngles angles[kAnglesChunk];
-  const int channels = lut.channels();
-  for (std::size_t begin = 0; begin < count; begin += kAnglesChunk) {
-    const std::size_t n = std::min(kAnglesChunk, count - begin);
-    detail::table_angles(geometries + begin, n, angles);
-    for (std::size_t k = 0; k < n; ++k)
-      detail::lookup_channels(lut, geometries[begin + k], angles[k], 0, channels, values + (begin + k) * channels);
-  }
+  detail::lookup_all_span(lut, geometries, count, values);
 }
 
 void lookup_batch(const Lut& lut, int channel, const ScatterAngles* angles, std::size_t count, double* values) {
@@ -100,9 +92,9 @@ void lookup_batch(const Lut& lut, int channel, const ScatterAngles* angles, std:
   for_each_chunk(count, [&](std::size_t begin, std::size_t end) {
     std::vector<ScatterGeometry> geos(end - begin);
     std::vector<detail::TableAngles> table(end - begin);
-    for (std::size_t k = begin; k < end; ++k) geos[k - begin] = make_scatter_geometry(angles[k]);
+    make_scatter_geometries(angles + begin, end - begin, geos.data());  // validated above
     detail::table_angles(geos.data(), geos.size(), table.data());
-    for (std::size_t k = begin; k < end; ++k) detail::lookup_channels(lut, geos[k - begin], table[k - begin], channel, 1, values + k);
+    detail::lookup_span(lut, geos.data(), table.data(), geos.size(), channel, 1, values + begin);
   });
 }
 
