@@ -1,12 +1,13 @@
 // asf_auto over a batch of queries (mbk_series.h): the method of each query chosen exactly as
 // asf_auto chooses it, then the queries of each method evaluated together, one query per SIMD lane
 // (Google Highway, run-time dispatch, as series_simd.cpp):
-//  - the series (eq. 11) of each lane from its own largest-term guess, by recurrences between
+//  - the series (eq. 11) of each lane from its own largest-term guess, by the exact ratios of
 //    consecutive (or every d-th) terms: one exp and one division per term, no lgamma or log per
 //    term; the plan, stride rule and geometric tail bound are those of sum_series_blocks;
 //  - the kernel table's bicubic Hermite lookup (kernel_table.h) with gathers.
 // Queries whose closed-form regime (eqs. 14, 15) is possible, and lanes outside the lane kernel's
-// domain, go through asf_auto / mbk_series_sum themselves.
+// domain, go through asf_auto / mbk_series_sum themselves. Every lane computes alone (lane-wise
+// operations from its own plan): a value depends on its own (g, c) only, not on the batch.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "asf_batch.cpp"
 #include <hwy/foreach_target.h>  // must come before highway.h
@@ -34,8 +35,6 @@ constexpr int kMaxLaneTerms = 4096;      // a lane still walking after this many
 // Largest exp argument of a ratio: beyond, t_m / t_{m0} could overflow (a guess far below the
 // mode), and the vector is walked again lane by lane, or rejected.
 constexpr double kMaxLogRatio = 700.0;
-// Unit-stride lanes share m when their guesses differ by at most this much (sorted by the guess).
-constexpr double kMaxSharedSpread = 12.0;
 
 // e^x to ~1e-14 relative for x <= 709 (x < -708 gives ~e^-708, not 0): the range reduction of
 // hn::Exp with its 2^k by an exponent-field add, and the degree-11 Taylor polynomial on
@@ -123,10 +122,11 @@ HWY_INLINE V InversePoissonRatio(D d, V m, V inv_g, V s, double max_stride) {
 // t_m = e^-g g^m / (m! m) e^(-c/m) are walked up and down from m0 by their exact ratios
 //   t_{m+s} / t_m = [prod_{j=1..s} g/(m+j)] (m/(m+s)) exp(c s / (m (m+s))),
 // relative to t_{m0} = exp(LogTerm(m0)), each direction until TailDone with 0.45 tol, as in
-// sum_series_blocks. Sets *converged false when a lane needs more than kMaxLaneTerms terms or a
-// ratio overflows.
+// sum_series_blocks. Every operation is lane by lane, so a lane's value depends on its own (g, c)
+// only, never on the queries beside it. *converged: false in lanes that needed more than
+// kMaxLaneTerms terms or whose ratio could overflow.
 template <class D, class V = hn::Vec<D>>
-HWY_INLINE V WalkLanes(D d, V g, V c, V ln_g, V m0, V s, double tol, bool* converged) {
+HWY_INLINE V WalkLanes(D d, V g, V c, V ln_g, V m0, V s, double tol, hn::Mask<D>* converged) {
   const V one = hn::Set(d, 1.0), zero = hn::Zero(d);
   const V inv_g = hn::Div(one, g), cs = hn::Mul(c, s);
   const V budget = hn::Set(d, 0.45 * tol);
@@ -149,117 +149,52 @@ HWY_INLINE V WalkLanes(D d, V g, V c, V ln_g, V m0, V s, double tol, bool* conve
     const V ratio = hn::Mul(hn::Mul(p, hn::Mul(hn::Mul(m, m), r)), ExpRatio(d, hn::Neg(hn::Mul(cs, r))));
     return hn::IfThenElseZero(hn::Ge(below, one), ratio);
   };
-  // Two terms per step, as WalkSharedM.
+  // Two terms per step, the tail tested after the second: the test's latency (sum, compare,
+  // mask) is paid once per two terms; a lane may sum one term past its stop (a real term).
   V m = m0, t = one;
   auto active = hn::Eq(one, one);
-  for (int terms = 0; !hn::AllFalse(d, active); m = hn::Add(m, hn::Add(s, s))) {
-    if ((terms += 2) > kMaxLaneTerms) {
-      *converged = false;
-      break;
-    }
+  for (int terms = 0; !hn::AllFalse(d, active) && (terms += 2) <= kMaxLaneTerms; m = hn::Add(m, hn::Add(s, s))) {
     const V r0 = up_ratio(m), r1 = up_ratio(hn::Add(m, s));
     const V t0 = hn::IfThenElseZero(active, hn::Mul(t, r0));
     t = hn::Mul(t0, r1);
     sum = hn::Add(sum, hn::Add(t0, t));
     active = hn::AndNot(TailDone(d, t, r1, sum, budget), active);
   }
+  auto unfinished = active;
   m = m0;
   t = one;
   active = hn::Ge(hn::Sub(m0, s), one);
-  for (int terms = 0; !hn::AllFalse(d, active); m = hn::Sub(m, hn::Add(s, s))) {
-    if ((terms += 2) > kMaxLaneTerms) {
-      *converged = false;
-      break;
-    }
+  for (int terms = 0; !hn::AllFalse(d, active) && (terms += 2) <= kMaxLaneTerms; m = hn::Sub(m, hn::Add(s, s))) {
     const V r0 = down_ratio(m), r1 = down_ratio(hn::Sub(m, s));
     const V t0 = hn::IfThenElseZero(active, hn::Mul(t, r0));
     t = hn::Mul(t0, r1);
     sum = hn::Add(sum, hn::Add(t0, t));
     active = hn::AndNot(TailDone(d, t, r1, sum, budget), active);
   }
-  if (hn::GetLane(hn::MaxOfLanes(d, largest_exponent)) > kMaxLogRatio) *converged = false;
+  unfinished = hn::Or(hn::Or(unfinished, active), hn::Gt(largest_exponent, hn::Set(d, kMaxLogRatio)));
+  *converged = hn::Not(unfinished);
   const V log_value = hn::Add(LogTerm(d, m0, g, ln_g, c), hn::Log(d, hn::Mul(sum, s)));
   // exp underflows below -745 (the scalar sums return 0 there too).
   return hn::IfThenElseZero(hn::Ge(log_value, hn::Set(d, -745.0)), hn::Exp(d, log_value));
 }
 
-// The same for unit-stride lanes that all walk the same m, from the vector's smallest guess ms up
-// and down: the factors of m are scalars (no division per term), the ratios
-//   t_{m+1} / t_m = g [m/(m+1)^2] exp(c/(m(m+1))),   t_{m-1} / t_m = (1/g) [m^2/(m-1)] exp(-c/(m(m-1))).
-template <class D, class V = hn::Vec<D>>
-HWY_INLINE V WalkSharedM(D d, V g, V c, V ln_g, double ms, double tol, bool* converged) {
-  const V one = hn::Set(d, 1.0), zero = hn::Zero(d);
-  const V inv_g = hn::Div(one, g);
-  const V budget = hn::Set(d, 0.45 * tol);
-  V sum = one, largest_exponent = zero;
-  // Two terms per step, the tail tested after the second: the test's latency (sum, compare,
-  // mask) is paid once per two terms; a lane may sum one term past its stop (a real term).
-  auto up_ratio = [&](double m) {
-    const double q = 1.0 / (m * (m + 1.0));
-    const V exponent = hn::Mul(c, hn::Set(d, q));
-    largest_exponent = hn::Max(largest_exponent, exponent);
-    return hn::Mul(hn::Mul(g, hn::Set(d, m / ((m + 1.0) * (m + 1.0)))), ExpRatio(d, exponent));
-  };
-  V t = one;
-  auto active = hn::Eq(one, one);
-  int terms = 0;
-  for (double m = ms; !hn::AllFalse(d, active); m += 2.0) {
-    if ((terms += 2) > kMaxLaneTerms) {
-      *converged = false;
-      break;
-    }
-    const V r0 = up_ratio(m), r1 = up_ratio(m + 1.0);
-    const V t0 = hn::IfThenElseZero(active, hn::Mul(t, r0));
-    t = hn::Mul(t0, r1);
-    sum = hn::Add(sum, hn::Add(t0, t));
-    active = hn::AndNot(TailDone(d, t, r1, sum, budget), active);
-  }
-  // Down to m = 1: a missing second term (m - 2 < 1) has ratio 0.
-  auto down_ratio = [&](double m) {
-    if (m < 2.0) return zero;
-    const double r = 1.0 / (m * (m - 1.0));
-    return hn::Mul(hn::Mul(inv_g, hn::Set(d, m * m * m * r)), ExpRatio(d, hn::Mul(c, hn::Set(d, -r))));
-  };
-  t = one;
-  active = hn::Eq(one, one);
-  for (double m = ms; m >= 2.0 && !hn::AllFalse(d, active); m -= 2.0) {
-    const V r0 = down_ratio(m), r1 = down_ratio(m - 1.0);
-    const V t0 = hn::IfThenElseZero(active, hn::Mul(t, r0));
-    t = hn::Mul(t0, r1);
-    sum = hn::Add(sum, hn::Add(t0, t));
-    active = hn::AndNot(TailDone(d, t, r1, sum, budget), active);
-  }
-  if (hn::GetLane(hn::MaxOfLanes(d, largest_exponent)) > kMaxLogRatio) *converged = false;
-  const V log_value = hn::Add(LogTerm(d, hn::Set(d, ms), g, ln_g, c), hn::Log(d, sum));
-  return hn::IfThenElseZero(hn::Ge(log_value, hn::Set(d, -745.0)), hn::Exp(d, log_value));
-}
-
 // Walks entries [begin, end) of a list in whole vectors (lanes past the end repeat its last
-// entry; shared m where the guesses are close, else lane by lane); lanes with a non-finite result
-// or no convergence are rejected.
-std::size_t WalkRange(LaneList& list, std::size_t begin, std::size_t end, double tol, bool unit_stride,
-                      std::uint32_t* rejected) {
+// entry); lanes with a non-finite result or no convergence are rejected.
+std::size_t WalkRange(LaneList& list, std::size_t begin, std::size_t end, double tol, std::uint32_t* rejected) {
   const hn::ScalableTag<double> d;
   using V = hn::Vec<decltype(d)>;
   const std::size_t n = hn::Lanes(d);
   std::size_t count = 0;
+  alignas(64) double converged[kMaxLanes];
   for (std::size_t k = begin; k < end; k += n) {
     const auto valid = hn::FirstN(d, end - k);
     auto load = [&](const double* array) { return hn::IfThenElse(valid, hn::LoadU(d, array + k), hn::Set(d, array[end - 1])); };
-    const V g = load(list.g), c = load(list.c), ln_g = load(list.ln_g), m0 = load(list.m0);
-    bool converged = true;
-    V sigma;
-    const double ms = hn::GetLane(hn::MinOfLanes(d, m0));
-    bool shared = unit_stride && hn::GetLane(hn::MaxOfLanes(d, m0)) - ms <= kMaxSharedSpread;
-    if (shared) {
-      sigma = WalkSharedM(d, g, c, ln_g, ms, tol, &converged);
-      shared = converged;  // else a lane far above ms: each lane from its own guess
-      converged = true;
-    }
-    if (!shared) sigma = WalkLanes(d, g, c, ln_g, m0, load(list.stride), tol, &converged);
+    hn::Mask<decltype(d)> ok;
+    const V sigma = WalkLanes(d, load(list.g), load(list.c), load(list.ln_g), load(list.m0), load(list.stride), tol, &ok);
     hn::StoreU(sigma, d, list.sigma + k);
+    hn::Store(hn::IfThenElseZero(ok, hn::Set(d, 1.0)), d, converged);
     for (std::size_t lane = k; lane < std::min(k + n, end); ++lane)
-      if (!converged || !std::isfinite(list.sigma[lane])) rejected[count++] = list.index[lane];
+      if (converged[lane - k] == 0.0 || !std::isfinite(list.sigma[lane])) rejected[count++] = list.index[lane];
   }
   return count;
 }
@@ -271,8 +206,8 @@ std::size_t SeriesQueryLanes(const double* g, const double* c, std::size_t count
   const StrideRule rule = stride_rule(tol);
   std::size_t rejected_count = 0;
   static thread_local LaneList all, sorted;  // ~50 KB each: kept off the stack
-  // Sort keys: unit-stride lanes by their guess (they share m), then strided lanes by their extent
-  // in strides (a vector walks as long as its longest lane), then those too wide for lanes.
+  // Sort keys (a vector walks as long as its longest lane): unit-stride lanes by their guess, then
+  // strided lanes by their extent in strides, then those too wide for lanes.
   constexpr std::size_t kUnitKeys = 256, kStridedKeys = 64, kKeys = kUnitKeys + kStridedKeys + 1;
   for (std::size_t begin = 0; begin < count; begin += kSubChunk) {
     const std::size_t size = std::min(kSubChunk, count - begin);
@@ -305,8 +240,8 @@ std::size_t SeriesQueryLanes(const double* g, const double* c, std::size_t count
       sorted.index[to] = static_cast<std::uint32_t>(begin + k);
     }
     for (std::size_t k = strided_end; k < size; ++k) rejected[rejected_count++] = sorted.index[k];
-    rejected_count += WalkRange(sorted, 0, unit_end, tol, true, rejected + rejected_count);
-    rejected_count += WalkRange(sorted, unit_end, strided_end, tol, false, rejected + rejected_count);
+    rejected_count += WalkRange(sorted, 0, unit_end, tol, rejected + rejected_count);
+    rejected_count += WalkRange(sorted, unit_end, strided_end, tol, rejected + rejected_count);
     for (std::size_t k = 0; k < strided_end; ++k) sigma[sorted.index[k]] = sorted.sigma[k];
   }
   return rejected_count;

@@ -364,6 +364,30 @@ void check_batch_against_reference(double tolerance) {
 TEST(AsfAutoBatch, WithinToleranceAndSameMethodAsScalar_1e6) { check_batch_against_reference(1e-6); }
 TEST(AsfAutoBatch, WithinToleranceAndSameMethodAsScalar_1e4) { check_batch_against_reference(1e-4); }
 
+// A value depends on its own query only (every lane computes alone): the same bits in a batch, in
+// the reversed batch and alone (count 1), so that a scalar call and an array call agree (batch.h).
+TEST(AsfAutoBatch, ValueDependsOnItsOwnQueryOnly) {
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> unit(0, 1);
+  std::vector<double> g, c;
+  for (int k = 0; k < 3000; ++k) {
+    g.push_back(std::exp(std::log(1e-8) + unit(rng) * std::log(1e15)));
+    c.push_back(unit(rng) < 0.1 ? 0.0 : g.back() * std::exp(std::log(1e-3) + unit(rng) * std::log(1e5)));
+  }
+  for (double tolerance : {1e-6, 1e-4}) {
+    std::vector<double> forward(g.size()), backward(g.size());
+    asf_auto_batch(g.data(), c.data(), g.size(), 1.0, tolerance, SeriesOptions{}, forward.data());
+    std::vector<double> rg(g.rbegin(), g.rend()), rc(c.rbegin(), c.rend());
+    asf_auto_batch(rg.data(), rc.data(), g.size(), 1.0, tolerance, SeriesOptions{}, backward.data());
+    for (std::size_t k = 0; k < g.size(); ++k) {
+      double alone = 0.0;
+      asf_auto_batch(&g[k], &c[k], 1, 1.0, tolerance, SeriesOptions{}, &alone);
+      ASSERT_EQ(forward[k], alone) << "tol " << tolerance << " g=" << g[k] << " c=" << c[k];
+      ASSERT_EQ(forward[k], backward[g.size() - 1 - k]) << "tol " << tolerance << " g=" << g[k] << " c=" << c[k];
+    }
+  }
+}
+
 // The reference methods and tolerance 0 go through asf_auto query by query: bit-identical.
 TEST(AsfAutoBatch, ReferenceMethodsAndToleranceZeroAreAsfAuto) {
   const double g[] = {1e-3, 0.7, 5.0, 80.0, 2e4}, c[] = {0.5, 3.0, 40.0, 100.0, 1e3};

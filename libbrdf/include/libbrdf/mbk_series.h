@@ -87,12 +87,16 @@ double asf(const Surface& surface, const ScatterGeometry& geo, const SeriesOptio
 // truncated at tolerance/10. Reports the method used.
 double asf_auto(const AsfArguments& args, double tolerance, AsfRegime* regime = nullptr,
                 const SeriesOptions& options = {});
+// The method asf_auto uses at (g, c) for `tolerance` (for callers that batch one method, e.g. the
+// table through KernelTable::sigma_many).
+AsfRegime asf_regime(const AsfArguments& args, double tolerance);
 
 // asf_auto over a batch of queries sharing one surface (one prefactor pi l_c^2/lambda^2):
 // asf_out[k] = asf_auto({g[k], c[k], prefactor}, tolerance, nullptr, options) up to the tolerance:
 // the same method choice per query, each value within `tolerance` (relative) of the exact series,
 // never NaN/Inf for finite g, c >= 0, 0 where every term underflows. Queries run in SIMD lanes
-// (Google Highway, run-time dispatch); asf_out may not alias g or c.
+// (Google Highway, run-time dispatch), each lane alone: asf_out[k] depends on g[k], c[k] only,
+// bit for bit, whatever else is in the batch (count 1 included). asf_out may not alias g or c.
 void asf_auto_batch(const double* g, const double* c, std::size_t count, double prefactor, double tolerance,
                     const SeriesOptions& options, double* asf_out);
 
