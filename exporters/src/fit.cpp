@@ -27,6 +27,9 @@ constexpr double kTailScale = 3.0;
 // EEVEE (tests/blender/test_blender_fit.py, medians): polished n = 1.5 + 1i 8.3% at 1e-9, 2.6% at
 // 1e-6, 2.5% at 1e-5, 3.9% at 1e-4, 7.5% at 1e-3; BK7 4.9%, 2.4%, 2.2%, 1.5%, 2.5%.
 constexpr double kSignedRidge = 1e-5;
+// POV-Ray (blinn shape): S / the largest S c (solve_colours): pigments up to 1/kWhiteFraction
+// (POV-Ray's colours are unbounded floats).
+constexpr double kWhiteFraction = 1e-3;
 // Roughness bounds: Blender clamps its roughness to [0, 1] (alpha = roughness^2 <= 1); below
 // alpha ~ 1e-3 a lobe is a mirror. POV-Ray: exponent n = 1/roughness.
 constexpr double kMinAlpha = 2e-3, kMaxAlpha = 1.0, kMinExponent = 1.0, kMaxExponent = 1e6;
@@ -263,34 +266,30 @@ double weight_of(const Pixel& p, std::size_t ch) {
 
 // Colours (and POV-Ray's S) for fixed roughnesses; returns the weighted squared error (the
 // objective: squared relative error above the floor, squared error / floor^2 below it).
-// Per channel, radiance = offset + sum_jk x_jk v_j(p) B_k(N.V): ggx/beckmann: offset 0, v_j the
-// lobe; blinn: offset sum_j S_j (N.H)^n_j F_m(N.L), v_j = (N.H)^n_j (1 - F_m) and x = S c. POV-Ray's S
-// is one number for the three channels: a first pass with S = 0 sets S_j = the largest x_jk (so
-// pigments stay <= 1 at the nodes), a second pass solves the colours with that S's F_m term.
+// Per channel, radiance = sum_jk x_jk v_j(p) B_k(N.V): ggx/beckmann: v_j the lobe; blinn:
+// v_j = h_j (1 - F_m) and x = S c, leaving out the white term sum_j S_j h_j F_m(N.L). POV-Ray's S is one
+// number for the three channels and its F_m part is white: the colours are solved with offset 0,
+// then S_j = kWhiteFraction x the largest x_jk keeps the white part negligible (below 0.1% of the
+// lobe; it is in lobe_radiance, so measured). Was S_j = the largest x_jk with a second pass for its
+// F_m term: that white term alone cost POV-Ray renders several % (BK7 median 7.1%).
 double solve_colours(LobeShape shape, bool signed_colours, std::vector<Lobe>& lobes, const std::vector<Pixel>& pixels) {
   const int J = static_cast<int>(lobes.size());
   constexpr int K = kColourTerms;
   const int n = J * K;
   const bool blinn = shape == LobeShape::blinn;
   std::vector<double> value(static_cast<std::size_t>(J)), phi(static_cast<std::size_t>(n));
-  if (blinn)
-    for (Lobe& l : lobes) l.specular = 0.0;
   double objective = 0.0;
-  for (int pass = 0; pass < (blinn ? 2 : 1); ++pass) {
+  {
     std::array<std::vector<double>, 3> G, b;
     std::array<double, 3> rr{};
     for (auto& g : G) g.assign(static_cast<std::size_t>(n * n), 0.0);
     for (auto& v : b) v.assign(static_cast<std::size_t>(n), 0.0);
     for (const Pixel& p : pixels) {
-      double offset = 0.0, share = 1.0;
+      double share = 1.0;
       if (blinn) {
-        const double fm = povray_metallic_weight(p.nl);
-        share = 1.0 - fm;
-        for (int j = 0; j < J; ++j) {
-          const Lobe& l = lobes[static_cast<std::size_t>(j)];
-          value[static_cast<std::size_t>(j)] = highlight_value(l, p.nl, p.nv, p.nh);
-          offset += l.specular * value[static_cast<std::size_t>(j)] * fm;
-        }
+        share = 1.0 - povray_metallic_weight(p.nl);
+        for (int j = 0; j < J; ++j)
+          value[static_cast<std::size_t>(j)] = highlight_value(lobes[static_cast<std::size_t>(j)], p.nl, p.nv, p.nh);
       } else {
         for (int j = 0; j < J; ++j) {
           const double r = lobes[static_cast<std::size_t>(j)].roughness;
@@ -304,7 +303,7 @@ double solve_colours(LobeShape shape, bool signed_colours, std::vector<Lobe>& lo
       for (std::size_t ch = 0; ch < 3; ++ch) {
         const double w = weight_of(p, ch);
         if (w == 0.0) continue;
-        const double target = p.exact[ch] - offset;
+        const double target = p.exact[ch];
         rr[ch] += w * target * target;
         for (int i = 0; i < n; ++i) {
           const double wi = w * phi[static_cast<std::size_t>(i)];
@@ -330,15 +329,11 @@ double solve_colours(LobeShape shape, bool signed_colours, std::vector<Lobe>& lo
         for (int k = 0; k < K; ++k)
           lobes[static_cast<std::size_t>(j)].colour[ch][static_cast<std::size_t>(k)] = x[static_cast<std::size_t>(j * K + k)];
     }
-    if (!blinn) {
-      for (Lobe& l : lobes) l.specular = 1.0;
-    } else if (pass == 0) {
-      for (Lobe& l : lobes) {
-        double largest = 0.0;
-        for (const auto& c : l.colour)
-          for (double v : c) largest = std::max(largest, v);
-        l.specular = largest > 0.0 ? largest : 1e-6;  // POV-Ray needs S > 0
-      }
+    for (Lobe& l : lobes) {
+      double largest = 0.0;
+      for (const auto& c : l.colour)
+        for (double v : c) largest = std::max(largest, v);
+      l.specular = !blinn ? 1.0 : largest > 0.0 ? kWhiteFraction * largest : 1e-6;  // POV-Ray needs S > 0
     }
   }
   if (blinn)  // x = S c: the pigment coefficients
@@ -526,7 +521,8 @@ std::vector<Lobe> ranked_ladder(const FitRequest& request, const std::vector<Pix
   solve_colours(request.shape, request.signed_colours, lobes, train);
   std::vector<Lobe> used;
   for (const Lobe& l : lobes)
-    if (l.specular > 1e-6) used.push_back(l);  // solve_colours gives an unused lobe S = 1e-6
+    if (std::any_of(l.colour.begin(), l.colour.end(), [](const auto& c) { return *std::max_element(c.begin(), c.end()) > 0.0; }))
+      used.push_back(l);
   std::stable_sort(used.begin(), used.end(), [](const Lobe& a, const Lobe& b) { return a.specular > b.specular; });
   return used;
 }
