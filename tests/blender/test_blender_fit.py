@@ -3,16 +3,22 @@
 deg from the camera), black world, no shadows needed (a convex object).
 
 For each surface (n = 1.5 + 1i at l_c = 2 um, sigma_s = 0.02 and 0.2 um, and sigma_s = 1.0 um at
-l_c = 5 um; Au polished and rough; BK7) the add-on builds the FIT material (its fitted Beckmann lobes
-for Cycles, GGX lobes for EEVEE), Cycles renders it (1 sample: a sun of angle 0 makes the direct
-light exact at each pixel centre), then EEVEE renders the same objects (sun angle 0.526 deg, as
-EEVEE needs). Compared: each channel of every pixel inside the sphere (mask eroded by 2 pixels)
-with theta_i, theta_s <= 70 deg and every channel above 1% of the render's maximum, against the
-exact radiance f_r cos(theta_i) E C. Asserted per surface: >= 200 pixels, every pixel finite; median
-relative error <= 5%, 95th percentile <= 20% (the issue's targets) for Cycles everywhere and for
-EEVEE on the narrow lobes (polished n = 1.5 + 1i and Au, BK7); EEVEE's errors on the broad lobes are
-measured and printed, not asserted: they miss the targets (its GGX is an LTC approximation).
-Usage: test_blender_fit.py [--keep DIR] [--engines CYCLES,BLENDER_EEVEE]
+l_c = 5 um; Au polished, intermediate and rough; BK7) the add-on builds the FIT material (its fitted
+Beckmann lobes for Cycles, GGX lobes for EEVEE) and the chosen engine renders it (Cycles: 1 sample,
+a sun of angle 0 makes the direct light exact at each pixel centre; EEVEE: sun angle 0.526 deg).
+Compared: each channel of every pixel inside the sphere (mask eroded by 2 pixels) with theta_i,
+theta_s <= 70 deg and every channel above 1% of the render's maximum, against the exact radiance
+f_r cos(theta_i) E C. Asserted per surface: >= 200 pixels, every pixel finite; median relative error
+<= 5%, 95th percentile <= 20% (the issue's targets) for Cycles everywhere and for EEVEE on the
+narrow lobes (polished n = 1.5 + 1i and Au, BK7, intermediate Au). EEVEE's broad lobes are measured
+and printed, not asserted: Blender 3.4's EEVEE lights a GGX Glossy BSDF by a sun through its LTC
+tables, which depart from GGX beyond roughness ~0.3 (a white Glossy on this sphere against the
+analytic GGX, median / 5th percentile of EEVEE / GGX: roughness 0.25 1.01 / 0.92, 0.45 0.91 / 0.46,
+0.6 0.81 / 0.06, 1.0 1.04 / 0.97; Cycles 1.000 / 1.000; a Diffuse BSDF 0.999 / 0.999), and broad MBK
+lobes need roughness 0.45-0.65 (alpha 0.2-0.4): no mixture of the lobes EEVEE renders faithfully
+(roughness <= 0.3, 1, Diffuse) reaches the targets there (least squares on the fit's scenes:
+median >= 12%).
+Usage: test_blender_fit.py [--keep DIR] [--engines CYCLES,BLENDER_EEVEE]  (ctest: one engine per test)
   (env BRDF_EXE, LIBBRDF_ROOT; EEVEE without an OpenGL context is reported and skipped)
 """
 
@@ -50,14 +56,16 @@ SURFACES = [
     ("Au_s0.02", dict(model="mbk", material="Au", sigma_s=0.02, lc=2.0)),
     ("Au_s0.5_lc3", dict(model="mbk", material="Au", sigma_s=0.5, lc=3.0)),
     ("BK7_s0.1", dict(model="mbk", material="BK7", sigma_s=0.1, lc=2.0)),
+    # Chosen here: intermediate gold (the report's au-s0.15, sigma_s/lambda = 0.15 at 0.55 um).
+    ("Au_s0.08", dict(model="mbk", material="Au", sigma_s=0.08, lc=2.0)),
 ]
-# EEVEE meets the targets on the narrow lobes only (the signed GGX lobes of broad ones do not
-# cancel in EEVEE as in GGX); elsewhere its error is printed as MEASURED.
-EEVEE_ASSERTED = {"n1.5+1i_s0.02", "Au_s0.02", "BK7_s0.1"}
+# EEVEE meets the targets on the narrow lobes only (its GGX departs from GGX beyond roughness
+# ~0.3: see above); elsewhere its error is printed as MEASURED.
+EEVEE_ASSERTED = {"n1.5+1i_s0.02", "Au_s0.02", "BK7_s0.1", "Au_s0.08"}
 CAMERA = {"direction": [0.0, -1.0, 0.3], "ortho_scale": 2.6}
 SUN = {"direction": [0.7, -0.7, 0.3], "strength": 2.0, "color": [1.0, 0.95, 0.9], "shadow": False}
 # The polished halo covers a few degrees around the half vector: finer pixels for it.
-RESOLUTION = {"s0.02": [224, 224]}
+RESOLUTION = {"s0.02": [224, 224], "s0.08": [128, 128]}
 DEFAULT_RESOLUTION = [96, 96]
 
 
@@ -128,8 +136,8 @@ def run(tmp, engines):
         stored = fit["eevee"]["error"] if render["engine"] != "CYCLES" else fit["error"]
         table.append((render["surface"], render["engine"], int(selected.sum()), median, p95, stored["median"], stored["p95"]))
         if render["engine"] != "CYCLES" and render["surface"] not in EEVEE_ASSERTED:
-            # Known gap (reported, not asserted): EEVEE's GGX is an LTC approximation whose tails are
-            # not GGX's, so broad signed GGX lobes fitted to Cycles' GGX do not cancel as fitted.
+            # Known gap (reported, not asserted): EEVEE's sun-lit GGX departs from GGX beyond
+            # roughness ~0.3 (module docstring), where the broad lobes are.
             print(f"     MEASURED (EEVEE, not asserted) {render['name']}: median {median:.2%}, p95 {p95:.2%}")
             continue
         check(median <= MEDIAN_LIMIT and p95 <= P95_LIMIT,

@@ -7,8 +7,11 @@ add_python_test(blender_addon_in_blender blender/test_blender_addon.py)
 add_python_test(blender_render_cycles blender/test_blender_render.py --engine CYCLES)
 add_python_test(blender_render_eevee blender/test_blender_render.py --engine BLENDER_EEVEE)
 # FIT mode (issue 10): Cycles and EEVEE renders of fitted lobes against brdf eval in the one-sun scene.
-add_python_test(blender_fit_render blender/test_blender_fit.py)
+# One test per engine: each stays under a minute.
+add_python_test(blender_fit_render_cycles blender/test_blender_fit.py --engines CYCLES)
+add_python_test(blender_fit_render_eevee blender/test_blender_fit.py --engines BLENDER_EEVEE)
 set_tests_properties(blender_addon_core blender_nodegraph blender_osl_shader blender_addon_in_blender
-                     blender_render_cycles blender_render_eevee blender_fit_render PROPERTIES LABELS blender TIMEOUT 300)
+                     blender_render_cycles blender_render_eevee blender_fit_render_cycles blender_fit_render_eevee
+                     PROPERTIES LABELS blender TIMEOUT 300)
 # 77: EEVEE found no OpenGL context (headless without EGL); reported as skipped, not passed.
-set_tests_properties(blender_render_eevee blender_fit_render PROPERTIES SKIP_RETURN_CODE 77)
+set_tests_properties(blender_render_eevee blender_fit_render_eevee PROPERTIES SKIP_RETURN_CODE 77)
