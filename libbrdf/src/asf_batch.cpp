@@ -76,6 +76,13 @@ HWY_INLINE void PlanLanes(D d, V g, V c, const StrideRule& rule, V* ln_g_out, V*
   const V ln_g = hn::Log(d, g);
   // log_ratio(1) = ln g - 2 ln 2 + c/2 < 0: the first term is the largest.
   const auto first = hn::Lt(hn::MulAdd(hn::Set(d, 0.5), c, hn::Sub(ln_g, hn::Set(d, 1.3862943611198906188))), hn::Zero(d));
+  *ln_g_out = ln_g;
+  *stride = one;
+  if (hn::AllTrue(d, first)) {  // common on polished surfaces: nothing more to plan
+    *m0 = one;
+    *work = one;
+    return;
+  }
   const V two_c = hn::Mul(two, c);
   const V q = hn::Div(two_c, hn::Mul(g, g));
   const V l = hn::Log1p(d, q);
@@ -83,16 +90,17 @@ HWY_INLINE void PlanLanes(D d, V g, V c, const StrideRule& rule, V* ln_g_out, V*
   // q <= 1e-8: W(q) ~ q, m ~ g.
   const V guess = hn::IfThenElse(hn::Gt(q, hn::Set(d, 1e-8)), hn::Round(hn::Sqrt(hn::Div(two_c, w))), hn::Round(g));
   const V m = hn::IfThenElse(first, one, hn::Max(one, guess));
+  *m0 = m;
+  *work = m;
+  const auto above = hn::Gt(m, hn::Set(d, kStrideMinMode));
+  if (hn::AllFalse(d, above)) return;  // no lane can be strided
   // Curvature of ln t_m at the mode: 1/(m + 1/2) - 1/m^2 + 2c/m^3; width = its -1/2 power.
   const V inv_m = hn::Div(one, m);
   const V curvature = hn::MulAdd(hn::Mul(two_c, inv_m), hn::Mul(inv_m, inv_m),
                                  hn::Sub(hn::Div(one, hn::Add(m, hn::Set(d, 0.5))), hn::Mul(inv_m, inv_m)));
   const V width = hn::Div(one, hn::Sqrt(curvature));
   const V strided = hn::Floor(hn::Mul(width, hn::Set(d, 1.0 / rule.widths_per_stride)));
-  const auto use = hn::And(hn::And(hn::Gt(m, hn::Set(d, kStrideMinMode)), hn::Ge(strided, two)),
-                           hn::Gt(hn::NegMulAdd(hn::Set(d, rule.clearance_widths), width, m), one));
-  *ln_g_out = ln_g;
-  *m0 = m;
+  const auto use = hn::And(hn::And(above, hn::Ge(strided, two)), hn::Gt(hn::NegMulAdd(hn::Set(d, rule.clearance_widths), width, m), one));
   *stride = hn::IfThenElse(use, strided, one);
   *work = hn::IfThenElse(use, hn::Div(width, strided), m);
 }
