@@ -11,10 +11,13 @@
 //                same run (every term, relative tolerance 1e-14)
 //   speedup      reference CPU time per evaluation / this benchmark's CPU time per evaluation, the
 //                reference being the group's first benchmark in the same run (its row reads 1)
+// tolerance/...: every ASF model at --tolerance 1e-4 against 1e-6, per query and over a span
+// (register_tolerance below).
 // Run: build-core/bench/bench_models [--benchmark_filter=asf/g=100]
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -26,6 +29,8 @@
 #include <time.h>
 
 #include "libbrdf/geometry.h"
+#include "libbrdf/lut.h"
+#include "libbrdf/materials.h"
 #include "libbrdf/mbk_series.h"
 #include "libbrdf/models.h"
 
@@ -192,12 +197,82 @@ void register_all() {
   }
 }
 
+// tolerance/<model>/<surface>/<path>/<tol>: --tolerance 1e-4 against 1e-6 (issue 9) for every ASF
+// model on the three gold surfaces of `brdf bench` (0.55 um; polished sigma_s = 0.01 um, l_c = 2;
+// intermediate 0.1, 2; rough 0.5, 5), on its 1500 random table geometries (theta <= 85 deg), one
+// thread, through Model::evaluate query by query (path "evaluate") and through
+// Model::evaluate_many on the whole set (path "span", what evaluate_batch runs per chunk).
+//   vs_1e-6       CPU time per evaluation at 1e-6 / at 1e-4, same model, surface and path
+//   span_speedup  evaluate's CPU time per evaluation / the span's, same tolerance
+//   max_rel_err   against the same model at tolerance 0 (the series at 1e-14)
+void register_tolerance() {
+  struct GoldSurface {
+    const char* name;
+    double sigma_s_um, lc_um;
+  };
+  static const GoldSurface surfaces[] = {{"polished", 0.01, 2.0}, {"intermediate", 0.1, 2.0}, {"rough", 0.5, 5.0}};
+  static std::vector<ScatterGeometry> points;
+  if (points.empty())
+    for (const ScatterAngles& a : random_table_geometries(LutLayout::rusinkiewicz, 1500, kErrorThetaLimitDeg, 1))
+      points.push_back(make_scatter_geometry(a));
+  for (ModelKind kind : {ModelKind::asf, ModelKind::mbk, ModelKind::mbk_fg, ModelKind::bk, ModelKind::bk_modified}) {
+    for (const GoldSurface& surface : surfaces) {
+      ModelParameters p;
+      p.sigma_s_um = surface.sigma_s_um;
+      p.lc_um = surface.lc_um;
+      p.wavelength_um = 0.55;
+      p.index = material_index("Au", 0.55);
+      ModelParameters exact = p;
+      exact.tolerance = 0.0;
+      const Model reference_model(kind, exact);
+      auto reference = std::make_shared<std::vector<double>>();
+      for (const ScatterGeometry& g : points) reference->push_back(reference_model.evaluate(g));
+      // Seconds per evaluation: [path][tolerance index], written by the benchmarks in their order.
+      auto seconds = std::make_shared<std::array<std::array<double, 2>, 2>>();
+      for (int path = 0; path < 2; ++path) {
+        for (int t = 0; t < 2; ++t) {
+          ModelParameters q = p;
+          q.tolerance = t == 0 ? 1e-6 : 1e-4;
+          auto model = std::make_shared<const Model>(kind, q);
+          const std::string label = "tolerance/" + std::string(model_name(kind)) + "/" + surface.name + "/" +
+                                    (path == 0 ? "evaluate" : "span") + (t == 0 ? "/1e-6" : "/1e-4");
+          benchmark::RegisterBenchmark(label.c_str(), [model, reference, seconds, path, t](benchmark::State& state) {
+            std::vector<double> out(points.size());
+            auto run = [&] {
+              if (path == 1) {
+                model->evaluate_many(points.data(), points.size(), out.data());
+              } else {
+                for (std::size_t k = 0; k < points.size(); ++k) out[k] = model->evaluate(points[k]);
+              }
+            };
+            const double start = thread_cpu_seconds();
+            for (auto _ : state) {
+              run();
+              benchmark::DoNotOptimize(out.data());
+            }
+            const double per_evaluation = (thread_cpu_seconds() - start) / (double(state.iterations()) * double(points.size()));
+            (*seconds)[path][t] = per_evaluation;
+            double worst = 0.0;
+            for (std::size_t k = 0; k < points.size(); ++k)
+              if ((*reference)[k] > 0.0) worst = std::max(worst, std::fabs(out[k] - (*reference)[k]) / (*reference)[k]);
+            state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(points.size()));
+            state.counters["max_rel_err"] = worst;
+            if (t == 1 && (*seconds)[path][0] > 0.0) state.counters["vs_1e-6"] = (*seconds)[path][0] / per_evaluation;
+            if (path == 1 && (*seconds)[0][t] > 0.0) state.counters["span_speedup"] = (*seconds)[0][t] / per_evaluation;
+          })->Unit(benchmark::kMicrosecond);
+        }
+      }
+    }
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   register_all();
+  register_tolerance();
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

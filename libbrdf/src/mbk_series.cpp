@@ -276,24 +276,26 @@ double asf_auto(const AsfArguments& args, double tolerance, AsfRegime* regime, c
   // bound), never tighter than asked for by `options`.
   SeriesOptions series = options;
   if (tolerance > 0.0) series.relative_tolerance = std::max(options.relative_tolerance, 0.1 * tolerance);
-  // The fastest form whose error bound meets the tolerance: the closed forms (their leading-order
-  // error estimates), then the kernel table (its certified error, kernel_table.h), else the series.
-  AsfRegime chosen = AsfRegime::series;
+  const AsfRegime chosen = asf_regime(args, tolerance);
   double sum;
-  if (tolerance > 0.0 && args.g > 0.0 && args.g < 0.5 && polished_error_estimate(args.g, args.c) < tolerance) {
-    chosen = AsfRegime::polished;
-    sum = mbk_series_polished(args.g, args.c);
-  } else if (tolerance > 0.0 && args.g > 50.0 && rough_error_estimate(args.g, args.c) < tolerance) {
-    chosen = AsfRegime::rough;
-    sum = mbk_series_rough(args.g, args.c);
-  } else if (tolerance >= kKernelTableCertifiedError && KernelTable::instance().contains(args.g, args.c)) {
-    chosen = AsfRegime::table;
-    sum = KernelTable::instance().sigma(args.g, args.c);
-  } else {
-    sum = mbk_series_sum(args.g, args.c, series);
+  switch (chosen) {
+    case AsfRegime::polished: sum = mbk_series_polished(args.g, args.c); break;
+    case AsfRegime::rough: sum = mbk_series_rough(args.g, args.c); break;
+    case AsfRegime::table: sum = KernelTable::instance().sigma(args.g, args.c); break;
+    default: sum = mbk_series_sum(args.g, args.c, series); break;
   }
   if (regime) *regime = chosen;
   return args.prefactor * sum;
+}
+
+AsfRegime asf_regime(const AsfArguments& args, double tolerance) {
+  // The fastest form whose error bound meets the tolerance: the closed forms (their leading-order
+  // error estimates), then the kernel table (its certified error, kernel_table.h), else the series.
+  if (tolerance > 0.0 && args.g > 0.0 && args.g < 0.5 && polished_error_estimate(args.g, args.c) < tolerance)
+    return AsfRegime::polished;
+  if (tolerance > 0.0 && args.g > 50.0 && rough_error_estimate(args.g, args.c) < tolerance) return AsfRegime::rough;
+  if (tolerance >= kKernelTableCertifiedError && KernelTable::instance().contains(args.g, args.c)) return AsfRegime::table;
+  return AsfRegime::series;
 }
 
 }  // namespace libbrdf
