@@ -157,28 +157,22 @@ HWY_INLINE V WalkLanes(D d, V g, V c, V ln_g, V m0, V s, double tol, hn::Mask<D>
     const V ratio = hn::Mul(hn::Mul(p, hn::Mul(hn::Mul(m, m), r)), ExpRatio(d, hn::Neg(hn::Mul(cs, r))));
     return hn::IfThenElseZero(hn::Ge(below, one), ratio);
   };
-  // Two terms per step, the tail tested after the second: the test's latency (sum, compare,
-  // mask) is paid once per two terms; a lane may sum one term past its stop (a real term).
-  V m = m0, t = one;
-  auto active = hn::Eq(one, one);
-  for (int terms = 0; !hn::AllFalse(d, active) && (terms += 2) <= kMaxLaneTerms; m = hn::Add(m, hn::Add(s, s))) {
-    const V r0 = up_ratio(m), r1 = up_ratio(hn::Add(m, s));
-    const V t0 = hn::IfThenElseZero(active, hn::Mul(t, r0));
-    t = hn::Mul(t0, r1);
-    sum = hn::Add(sum, hn::Add(t0, t));
-    active = hn::AndNot(TailDone(d, t, r1, sum, budget), active);
-  }
-  auto unfinished = active;
-  m = m0;
-  t = one;
-  active = hn::Ge(hn::Sub(m0, s), one);
-  for (int terms = 0; !hn::AllFalse(d, active) && (terms += 2) <= kMaxLaneTerms; m = hn::Sub(m, hn::Add(s, s))) {
-    const V r0 = down_ratio(m), r1 = down_ratio(hn::Sub(m, s));
-    const V t0 = hn::IfThenElseZero(active, hn::Mul(t, r0));
-    t = hn::Mul(t0, r1);
-    sum = hn::Add(sum, hn::Add(t0, t));
-    active = hn::AndNot(TailDone(d, t, r1, sum, budget), active);
-  }
+  // From m0 by `step` (+s up, -s down) while `active`: two terms per step, the tail tested after
+  // the second (the test's latency -- sum, compare, mask -- paid once per two terms; a lane may sum
+  // one term past its stop, a real term). Returns the lanes still unfinished.
+  auto walk = [&](auto ratio_at, V step, hn::Mask<D> active) {
+    V m = m0, t = one;
+    for (int terms = 0; !hn::AllFalse(d, active) && (terms += 2) <= kMaxLaneTerms; m = hn::Add(m, hn::Add(step, step))) {
+      const V r0 = ratio_at(m), r1 = ratio_at(hn::Add(m, step));
+      const V t0 = hn::IfThenElseZero(active, hn::Mul(t, r0));
+      t = hn::Mul(t0, r1);
+      sum = hn::Add(sum, hn::Add(t0, t));
+      active = hn::AndNot(TailDone(d, t, r1, sum, budget), active);
+    }
+    return active;
+  };
+  auto unfinished = walk(up_ratio, s, hn::Eq(one, one));
+  const auto active = walk(down_ratio, hn::Neg(s), hn::Ge(hn::Sub(m0, s), one));
   unfinished = hn::Or(hn::Or(unfinished, active), hn::Gt(largest_exponent, hn::Set(d, kMaxLogRatio)));
   *converged = hn::Not(unfinished);
   const V log_value = hn::Add(LogTerm(d, m0, g, ln_g, c), hn::Log(d, hn::Mul(sum, s)));
