@@ -4,12 +4,12 @@ one-sun scene: an orthographic sphere, one parallel light about 45 deg from the 
 background (povray/scenes/object_check.pov, Pass 2: Material_Fit under Brdf_Sun).
 
 Surfaces as in tests/blender/test_blender_fit.py (n = 1.5 + 1i polished, intermediate, rough; Au
-polished and rough; BK7). Per pixel (analytic sphere normals; mask eroded by 2 pixels) and channel,
-over the pixels with theta_i, theta_s <= 70 deg and every channel above 1% of the maximum, the
-relative error against f_r cos(theta_i) E. Asserted: >= 200 pixels, no NaN/Inf, the include states
-its fit's error and lobes; the issue's targets (median <= 5%, p95 <= 20%) where the Blinn lobes meet
-them (n = 1.5 + 1i polished and intermediate); elsewhere printed as MEASURED (Blinn lobes have no
-1/cos(theta_s) and no shadowing: the rough lobes miss by 3x, Au polished and BK7 by ~1.5x in median).
+polished, intermediate and rough; BK7). Per pixel (analytic sphere normals; mask eroded by 2 pixels)
+and channel, over the pixels with theta_i, theta_s <= 70 deg and every channel above 1% of the
+maximum, the relative error against f_r cos(theta_i) E. Asserted: >= 200 pixels, no NaN/Inf, the
+include states its fit's error and lobes; the issue's targets (median <= 5%, p95 <= 20%) on every
+surface but the rough n = 1.5 + 1i, printed as MEASURED (median 6.1%, p95 23%: Blinn and Phong lobes
+times a colour in N.V lack MBK's 1/cos(theta_s) and shadowing across so broad a lobe).
 Environment (set by ctest): BRDF_EXE, LIBBRDF_ROOT, LIBBRDF_BUILD.
 """
 import os
@@ -36,10 +36,11 @@ LIGHT, VIEW = (0.7, 0.25, -0.75), (0.0, 0.0, -1.0)
 CASES = [
     ("n1.5+1i_s0.02", dict(n=1.5, k=1.0, sigma_s=0.02, lc=2.0), 280, True),
     ("n1.5+1i_s0.2", dict(n=1.5, k=1.0, sigma_s=0.2, lc=2.0), 120, True),
-    ("n1.5+1i_s1.0_lc5", dict(n=1.5, k=1.0, sigma_s=1.0, lc=5.0), 120, False),
-    ("Au_s0.02", dict(material="Au", sigma_s=0.02, lc=2.0), 280, False),  # measured median 6.4%
-    ("Au_s0.5_lc3", dict(material="Au", sigma_s=0.5, lc=3.0), 120, False),
-    ("BK7_s0.1", dict(material="BK7", sigma_s=0.1, lc=2.0), 200, False),  # measured median 7.1%
+    ("n1.5+1i_s1.0_lc5", dict(n=1.5, k=1.0, sigma_s=1.0, lc=5.0), 120, False),  # measured 6.1% / 23%
+    ("Au_s0.02", dict(material="Au", sigma_s=0.02, lc=2.0), 280, True),
+    ("Au_s0.08", dict(material="Au", sigma_s=0.08, lc=2.0), 160, True),  # chosen here: intermediate gold
+    ("Au_s0.5_lc3", dict(material="Au", sigma_s=0.5, lc=3.0), 120, True),
+    ("BK7_s0.1", dict(material="BK7", sigma_s=0.1, lc=2.0), 200, True),
 ]
 
 
