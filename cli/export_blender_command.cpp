@@ -124,7 +124,9 @@ int run_export_blender(const ExportBlenderOptions& o) {
       // The factored form (blender.h): only the side rows depend on sigma_s and l_c (and P~ of
       // mbk-fg); the angular atlas and the Sigma image are reused when present beside the output.
       request.layout = libbrdf::LutLayout::kernel;
-      const fs::path directory = fs::absolute(output).parent_path();
+      // The shared images beside the output, spelt as the output's own directory: the publication
+      // locks each target directory by its path, and two spellings of one directory would deadlock.
+      const fs::path directory = output.parent_path();
       const std::vector<libbrdf::Model> models = libbrdf::channel_models(kind, e.channels);
       kernel.sigma = libbrdf::blender::sigma_image_layout();
       kernel.sigma_file = libbrdf::blender::sigma_image_file_name(kernel.sigma);
@@ -159,7 +161,8 @@ int run_export_blender(const ExportBlenderOptions& o) {
       written.push_back(side_path.string());
       e.kernel = &kernel;
       e.lut = &lut;
-      if (o.mode == "osl") publish_osl(libbrdf::blender::osl_kernel_shader_source(e, directory.string(), header));
+      if (o.mode == "osl")
+        publish_osl(libbrdf::blender::osl_kernel_shader_source(e, fs::absolute(directory).string(), header));
     } else {
       request.layout = libbrdf::LutLayout::rusinkiewicz;
       lut = libbrdf::bake(request);

@@ -236,6 +236,12 @@ def test_cli_contract(tmp):
         check(done.returncode == 2 and len(lines) == 1 and lines[0].startswith(f"brdf: error: {parameter}"),
               f"export blender {' '.join(args[-2:])}: exit {done.returncode}, {lines}")
     check(not os.path.exists(out), "no description written by a failed export")
+    # A relative --output (the shared images then sit in the same directory spelt the same way).
+    done = subprocess.run([BRDF, "export", "blender", *base, "--resolution", "8,8,8", "--output", "relative.json"],
+                          capture_output=True, text=True, cwd=tmp, timeout=120)
+    check(done.returncode == 0 and "relative.json" in done.stdout.split()
+          and os.path.isfile(os.path.join(tmp, core.load_description(os.path.join(tmp, "relative.json"))["lut"]["sigma"]["file"])),
+          f"relative --output: {done.stdout.split()}")
     done = run(*base, "--output", out, "--mode", "fit")
     check(done.returncode == 0 and done.stdout.split() == [out], f"fit mode writes only the description ({done.stdout.split()})")
 
