@@ -323,7 +323,14 @@ Lut kernel_lut_from_angular_atlas(const std::string& angular_path, const std::ve
   }
   const std::size_t per_channel = lut.nodes_per_channel();
   lut.values.resize(per_channel * models.size());
-  const std::vector<float>& pixels = parts[0].pixels;  // rows from the top
+  const std::vector<float>& pixels = parts[0].pixels;  // rows from the top, channels as stored (by name)
+  std::array<std::size_t, 3> position{};
+  for (int rgb = 0; rgb < 3; ++rgb) {
+    const auto& names = parts[0].channel_names;
+    const auto found = std::find(names.begin(), names.end(), std::string(1, "RGB"[rgb]));
+    if (found == names.end()) throw LutFileError(angular_path + ": no channel " + std::string(1, "RGB"[rgb]));
+    position[rgb] = static_cast<std::size_t>(found - names.begin());
+  }
   for (std::size_t c = 0; c < models.size(); ++c)
     for (int i0 = 0; i0 < shape[0]; ++i0)
       for (int i1 = 0; i1 < shape[1]; ++i1)
@@ -331,7 +338,7 @@ Lut kernel_lut_from_angular_atlas(const std::string& angular_path, const std::ve
           const auto [x, y] = node_texel(a, i0, i1, k);
           const std::size_t texel = static_cast<std::size_t>(a.height - 1 - y) * a.width + x;
           lut.values[c * per_channel + (static_cast<std::size_t>(i0) * shape[1] + i1) * shape[2] + k] =
-              pixels[texel * 3 + (models.size() == 1 ? 0 : c)];
+              pixels[texel * 3 + position[models.size() == 1 ? 0 : c]];
         }
   return lut;
 }
