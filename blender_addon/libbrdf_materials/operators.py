@@ -70,7 +70,7 @@ class LIBBRDF_OT_add_material(bpy.types.Operator):
             self.report({"WARNING"}, message)
         error = description.get("lut", {}).get("error", {})
         detail = (f", table error rms {error['rms_relative']:.2%}, max {error['max_relative']:.2%} "
-                  "(over all angles up to grazing)" if error else "")
+                  "(both polar angles <= 85 deg)" if error else "")
         albedo = core.albedo_text(description)
         if albedo:
             group.node_tree["libbrdf_albedo"] = albedo  # shown in the panel
