@@ -6,6 +6,6 @@ target_link_libraries(povray_exporter_tests PRIVATE libbrdf_exporters)
 add_python_test(povray.export_cli povray/test_export_cli.py)
 add_python_test(povray.exact_render povray/test_exact_render.py)
 add_python_test(povray.comparison_tool povray/test_comparison_tool.py)
-# NAME_Fit (issue 10): the fitted Blinn lobes rendered by POV-Ray against brdf eval, one sun.
+# NAME_Fit (issue 10): the fitted Blinn and Phong lobes rendered by POV-Ray against brdf eval, one sun.
 add_python_test(povray.fit_render povray/test_fit_render.py)
 set_tests_properties(povray.export_cli povray.exact_render povray.comparison_tool povray.fit_render PROPERTIES LABELS povray TIMEOUT 600)
