@@ -102,7 +102,14 @@ void PublicationGroup::publish() {
   // Exclusive locks on the target directories first (waiting for another publisher must not
   // hold the publication lock, which a signal thread needs), in a fixed order.
   std::set<std::string> directories;
-  for (const auto& entry : staged_) directories.insert(fs::path(entry.second).parent_path().string());
+  // One lock per directory, however its files spell it: flock() locks of one process through two
+  // descriptors conflict, so "out" and "/abs/out" taken separately would wait for each other forever.
+  for (const auto& entry : staged_) {
+    std::error_code ec;
+    const fs::path parent = fs::path(entry.second).parent_path();
+    const fs::path canonical = fs::weakly_canonical(fs::absolute(parent.empty() ? fs::path(".") : parent, ec), ec);
+    directories.insert(ec ? parent.string() : canonical.string());
+  }
   std::vector<int> locks;
   for (const std::string& directory : directories) locks.push_back(lock_directory(directory, LOCK_EX));
   std::string failure;

@@ -1,13 +1,21 @@
 // Issue 11 in the library: directional albedo (white furnace), the K integral at huge g, domain
-// ranges, messages that quote untrusted text, tables that refuse negative values.
+// ranges, messages that quote untrusted text, tables that refuse negative values, publication
+// of a file group whose paths spell one directory two ways.
 #include <gtest/gtest.h>
+
+#include <unistd.h>
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <future>
 #include <string>
+#include <thread>
 
 #include "libbrdf/albedo.h"
 #include "libbrdf/error.h"
+#include "libbrdf/image_file.h"
 #include "libbrdf/lut.h"
 #include "libbrdf/models.h"
 #include "libbrdf/renormalization.h"
@@ -133,3 +141,31 @@ TEST(LutFiles, WritersAndReadersRefuseNegativeValues) {
 }
 
 }  // namespace
+
+// A group whose files spell one directory two ways ("D/a" and "D/./b") takes one lock on it:
+// flock(2) locks of one process through two descriptors conflict, so two locks on the same
+// directory made the publication wait for itself forever (found by the Blender exporter with a
+// relative and an absolute output path).
+TEST(PublicationGroup, OneDirectorySpelledTwoWaysIsLockedOnce) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("libbrdf_publication_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string first = (dir / "a.txt").string(), second = (dir / "." / "b.txt").string();
+  std::promise<void> done;
+  std::future<void> finished = done.get_future();
+  std::thread publisher([&] {
+    libbrdf::PublicationGroup group;
+    libbrdf::write_text_file_atomically(first, "a");
+    libbrdf::write_text_file_atomically(second, "b");
+    group.publish();
+    done.set_value();
+  });
+  if (finished.wait_for(std::chrono::seconds(30)) != std::future_status::ready) {
+    ADD_FAILURE() << "publish() did not return within 30 s (directory locked twice)";
+    std::_Exit(1);  // the publisher thread cannot be joined
+  }
+  publisher.join();
+  EXPECT_TRUE(fs::exists(dir / "a.txt"));
+  EXPECT_TRUE(fs::exists(dir / "b.txt"));
+  fs::remove_all(dir);
+}
