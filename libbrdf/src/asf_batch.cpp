@@ -210,7 +210,7 @@ std::size_t SeriesQueryLanes(const double* g, const double* c, std::size_t count
   static thread_local LaneList all, sorted;  // ~50 KB each: kept off the stack
   // Sort keys (a vector walks as long as its longest lane): unit-stride lanes by their guess, then
   // strided lanes by their extent in strides, then those too wide for lanes.
-  constexpr std::size_t kUnitKeys = 256, kStridedKeys = 64, kKeys = kUnitKeys + kStridedKeys + 1;
+  constexpr std::size_t kUnitKeys = 256, kStridedKeys = 64, kKeys = kUnitKeys + kStridedKeys + 1, kMinSorted = 64;
   for (std::size_t begin = 0; begin < count; begin += kSubChunk) {
     const std::size_t size = std::min(kSubChunk, count - begin);
     std::copy(g + begin, g + begin + size, all.g);
@@ -225,16 +225,21 @@ std::size_t SeriesQueryLanes(const double* g, const double* c, std::size_t count
       hn::Store(stride, d, all.stride + k);
       hn::Store(w, d, work + k);
     }
-    std::uint16_t key[kSubChunk], start[kKeys + 1] = {};
+    // Few queries (a scalar caller's batch of one): the three groups unsorted, not 321 buckets.
+    const bool fine = size >= kMinSorted;
+    const std::size_t buckets = fine ? kKeys : 3, strided_key = fine ? kUnitKeys : 1;
+    std::uint16_t key[kSubChunk], start[kKeys + 1];
+    std::fill(start, start + buckets + 1, std::uint16_t{0});
     for (std::size_t k = 0; k < size; ++k) {
       const double s = all.stride[k];
-      key[k] = static_cast<std::uint16_t>(s == 1.0              ? std::min(all.m0[k], kUnitKeys - 1.0)
-                                          : s <= kLaneMaxStride ? kUnitKeys + std::min(16.0 * (work[k] - 2.0), kStridedKeys - 1.0)
-                                                                : kKeys - 1.0);
+      const double fine_key = s == 1.0              ? std::min(all.m0[k], kUnitKeys - 1.0)
+                              : s <= kLaneMaxStride ? kUnitKeys + std::min(16.0 * (work[k] - 2.0), kStridedKeys - 1.0)
+                                                    : kKeys - 1.0;
+      key[k] = static_cast<std::uint16_t>(fine ? fine_key : s == 1.0 ? 0.0 : s <= kLaneMaxStride ? 1.0 : 2.0);
       ++start[key[k] + 1];
     }
-    for (std::size_t b = 1; b <= kKeys; ++b) start[b] += start[b - 1];
-    const std::size_t unit_end = start[kUnitKeys], strided_end = start[kKeys - 1];
+    for (std::size_t b = 1; b <= buckets; ++b) start[b] += start[b - 1];
+    const std::size_t unit_end = start[strided_key], strided_end = start[buckets - 1];
     for (std::size_t k = 0; k < size; ++k) {
       const std::size_t to = start[key[k]]++;
       sorted.g[to] = all.g[k], sorted.c[to] = all.c[k], sorted.ln_g[to] = all.ln_g[k];
