@@ -16,8 +16,9 @@ cancelled), cli_spread_ns (max - min of that difference over the repeats: how fa
 speedup (numpy / cli), max_rel_diff (CLI vs numpy, asf only), and, when the Python module imports
 (PYTHONPATH=build/python), the same batch API without CSV I/O: module_cpu_ns (all threads),
 module_wall_ns, module_speedup_cpu (numpy CPU / module CPU). `brdf eval` reads with std::from_chars and
-writes with std::to_chars (~0.5-1 us of I/O per query), so with 1e6 points the difference is
-~10x its spread.
+writes with std::to_chars: ~0.6-0.9 us of I/O per query (was ~2.4 us with strtod/printf), and the
+spread of the cancelled difference 50-300 ns at 5e5 points on a loaded two-core machine (was
+0.6-2.6 us): trust cli_ns to about its cli_spread_ns.
 """
 import argparse, math, os, resource, subprocess, sys, tempfile, time
 import numpy as np
