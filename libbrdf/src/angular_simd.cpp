@@ -7,6 +7,7 @@
 #include <hwy/highway.h>
 #include <hwy/contrib/math/math-inl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -98,10 +99,11 @@ void ScatterTrig(const ScatterAngles* angles, std::size_t count, double* trig) {
   std::size_t k = 0;
   for (; k + n <= count; k += n) block(angles + k, trig + 6 * k);
   if (k < count) {  // the remainder through a padded block: the same vector code for every query
-    std::vector<ScatterAngles> pad(n, angles[count - 1]);
-    std::vector<double> t(6 * n);
-    for (std::size_t j = k; j < count; ++j) pad[j - k] = angles[j];
-    block(pad.data(), t.data());
+    constexpr std::size_t kMaxLanes = HWY_MAX_BYTES / sizeof(double);
+    ScatterAngles pad[kMaxLanes];
+    double t[6 * kMaxLanes];
+    for (std::size_t j = 0; j < n; ++j) pad[j] = angles[std::min(k + j, count - 1)];
+    block(pad, t);
     for (std::size_t j = 0; j < 6 * (count - k); ++j) trig[6 * k + j] = t[j];
   }
   // Azimuths outside Highway's range through the C library.

@@ -19,8 +19,11 @@ ScatterGeometry make_scatter_geometry(const ScatterAngles& angles) {
   require_polar_angle("theta_i", angles.theta_i);
   require_polar_angle("theta_s", angles.theta_s);
   require_finite("phi_s", angles.phi_s);
-  return scatter_geometry_from_trig(std::cos(angles.theta_i), std::sin(angles.theta_i), std::cos(angles.theta_s),
-                                    std::sin(angles.theta_s), std::cos(angles.phi_s), std::sin(angles.phi_s));
+  // The sines and cosines of the span version (make_scatter_geometries), so that a query gives
+  // the same bits whichever path derives its geometry (batch.h: every front end agrees).
+  double trig[6];
+  detail::scatter_trig(&angles, 1, trig);
+  return scatter_geometry_from_trig(trig[0], trig[1], trig[2], trig[3], trig[4], trig[5]);
 }
 
 ScatterGeometry scatter_geometry_from_trig(double cos_theta_i, double sin_theta_i, double cos_theta_s,

@@ -54,9 +54,10 @@ ScatterGeometry make_scatter_geometry(const ScatterAngles& angles);
 ScatterGeometry scatter_geometry_from_trig(double cos_theta_i, double sin_theta_i, double cos_theta_s,
                                            double sin_theta_s, double cos_phi_s, double sin_phi_s);
 
-// geos[k] = make_scatter_geometry(angles[k]) for k < count, without the validation (callers
-// validate first: evaluate_batch), the sines and cosines in SIMD (Google Highway, 3 ulp against
-// the C library's 1: the fields agree to a few 1e-16, tests/cpp/test_geometry.cpp).
+// geos[k] = make_scatter_geometry(angles[k]) for k < count (the same bits), without the
+// validation (callers validate first: evaluate_batch). Both take their sines and cosines from one
+// SIMD routine (Google Highway, 3 ulp; within a few 1e-16 of the C library's,
+// tests/cpp/test_geometry.cpp), so that every path gives a query the same geometry.
 void make_scatter_geometries(const ScatterAngles* angles, std::size_t count, ScatterGeometry* geos);
 
 // tan^2 theta_h from eq. 17; equals eta_r^2 / (cos ti + cos ts)^2 (eq. 19).
