@@ -268,7 +268,7 @@ double weight_of(const Pixel& p, std::size_t ch) {
 // objective: squared relative error above the floor, squared error / floor^2 below it).
 // Per channel, radiance = sum_jk x_jk v_j(p) B_k(N.V): ggx/beckmann: v_j the lobe; blinn:
 // v_j = h_j (1 - F_m) and x = S c, leaving out the white term sum_j S_j h_j F_m(N.L). POV-Ray's S is one
-// number for the three channels and its F_m part is white: the colours are solved with offset 0,
+// number for the three channels and its F_m part is white: the colours are solved without it,
 // then S_j = kWhiteFraction x the largest x_jk keeps the white part negligible (below 0.1% of the
 // lobe; it is in lobe_radiance, so measured). Was S_j = the largest x_jk with a second pass for its
 // F_m term: that white term alone cost POV-Ray renders several % (BK7 median 7.1%).
@@ -278,63 +278,60 @@ double solve_colours(LobeShape shape, bool signed_colours, std::vector<Lobe>& lo
   const int n = J * K;
   const bool blinn = shape == LobeShape::blinn;
   std::vector<double> value(static_cast<std::size_t>(J)), phi(static_cast<std::size_t>(n));
-  double objective = 0.0;
-  {
-    std::array<std::vector<double>, 3> G, b;
-    std::array<double, 3> rr{};
-    for (auto& g : G) g.assign(static_cast<std::size_t>(n * n), 0.0);
-    for (auto& v : b) v.assign(static_cast<std::size_t>(n), 0.0);
-    for (const Pixel& p : pixels) {
-      double share = 1.0;
-      if (blinn) {
-        share = 1.0 - povray_metallic_weight(p.nl);
-        for (int j = 0; j < J; ++j)
-          value[static_cast<std::size_t>(j)] = highlight_value(lobes[static_cast<std::size_t>(j)], p.nl, p.nv, p.nh);
-      } else {
-        for (int j = 0; j < J; ++j) {
-          const double r = lobes[static_cast<std::size_t>(j)].roughness;
-          value[static_cast<std::size_t>(j)] =
-              shape == LobeShape::ggx ? ggx_value(r, p.nl, p.nv, p.nh) : beckmann_value(r, p.nl, p.nv, p.nh);
-        }
-      }
+  std::array<std::vector<double>, 3> G, b;
+  std::array<double, 3> rr{};
+  for (auto& g : G) g.assign(static_cast<std::size_t>(n * n), 0.0);
+  for (auto& v : b) v.assign(static_cast<std::size_t>(n), 0.0);
+  for (const Pixel& p : pixels) {
+    double share = 1.0;
+    if (blinn) {
+      share = 1.0 - povray_metallic_weight(p.nl);
       for (int j = 0; j < J; ++j)
-        for (int k = 0; k < K; ++k)
-          phi[static_cast<std::size_t>(j * K + k)] = value[static_cast<std::size_t>(j)] * share * p.basis[static_cast<std::size_t>(k)];
-      for (std::size_t ch = 0; ch < 3; ++ch) {
-        const double w = weight_of(p, ch);
-        if (w == 0.0) continue;
-        const double target = p.exact[ch];
-        rr[ch] += w * target * target;
-        for (int i = 0; i < n; ++i) {
-          const double wi = w * phi[static_cast<std::size_t>(i)];
-          if (wi == 0.0) continue;
-          b[ch][static_cast<std::size_t>(i)] += wi * target;
-          for (int j = 0; j <= i; ++j) G[ch][static_cast<std::size_t>(i * n + j)] += wi * phi[static_cast<std::size_t>(j)];
-        }
+        value[static_cast<std::size_t>(j)] = highlight_value(lobes[static_cast<std::size_t>(j)], p.nl, p.nv, p.nh);
+    } else {
+      for (int j = 0; j < J; ++j) {
+        const double r = lobes[static_cast<std::size_t>(j)].roughness;
+        value[static_cast<std::size_t>(j)] =
+            shape == LobeShape::ggx ? ggx_value(r, p.nl, p.nv, p.nh) : beckmann_value(r, p.nl, p.nv, p.nh);
       }
     }
-    objective = 0.0;
+    for (int j = 0; j < J; ++j)
+      for (int k = 0; k < K; ++k)
+        phi[static_cast<std::size_t>(j * K + k)] = value[static_cast<std::size_t>(j)] * share * p.basis[static_cast<std::size_t>(k)];
     for (std::size_t ch = 0; ch < 3; ++ch) {
-      for (int i = 0; i < n; ++i)
-        for (int j = 0; j < i; ++j) G[ch][static_cast<std::size_t>(j * n + i)] = G[ch][static_cast<std::size_t>(i * n + j)];
-      const std::vector<double> x = signed_colours ? Nnls::unconstrained(G[ch], b[ch], n) : Nnls::solve(G[ch], b[ch], n);
-      double e = rr[ch];
+      const double w = weight_of(p, ch);
+      if (w == 0.0) continue;
+      const double target = p.exact[ch];
+      rr[ch] += w * target * target;
       for (int i = 0; i < n; ++i) {
-        e -= 2.0 * b[ch][static_cast<std::size_t>(i)] * x[static_cast<std::size_t>(i)];
-        for (int j = 0; j < n; ++j)
-          e += x[static_cast<std::size_t>(i)] * G[ch][static_cast<std::size_t>(i * n + j)] * x[static_cast<std::size_t>(j)];
+        const double wi = w * phi[static_cast<std::size_t>(i)];
+        if (wi == 0.0) continue;
+        b[ch][static_cast<std::size_t>(i)] += wi * target;
+        for (int j = 0; j <= i; ++j) G[ch][static_cast<std::size_t>(i * n + j)] += wi * phi[static_cast<std::size_t>(j)];
       }
-      objective += std::max(e, 0.0);
-      for (int j = 0; j < J; ++j)
-        for (int k = 0; k < K; ++k)
-          lobes[static_cast<std::size_t>(j)].colour[ch][static_cast<std::size_t>(k)] = x[static_cast<std::size_t>(j * K + k)];
     }
-    for (Lobe& l : lobes) {
-      double largest = 0.0;
-      for (const auto& c : l.colour)
-        for (double v : c) largest = std::max(largest, v);
-      l.specular = !blinn ? 1.0 : largest > 0.0 ? kWhiteFraction * largest : 1e-6;  // POV-Ray needs S > 0
+  }
+  double objective = 0.0;
+  for (std::size_t ch = 0; ch < 3; ++ch) {
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < i; ++j) G[ch][static_cast<std::size_t>(j * n + i)] = G[ch][static_cast<std::size_t>(i * n + j)];
+    const std::vector<double> x = signed_colours ? Nnls::unconstrained(G[ch], b[ch], n) : Nnls::solve(G[ch], b[ch], n);
+    double e = rr[ch];
+    for (int i = 0; i < n; ++i) {
+      e -= 2.0 * b[ch][static_cast<std::size_t>(i)] * x[static_cast<std::size_t>(i)];
+      for (int j = 0; j < n; ++j)
+        e += x[static_cast<std::size_t>(i)] * G[ch][static_cast<std::size_t>(i * n + j)] * x[static_cast<std::size_t>(j)];
     }
+    objective += std::max(e, 0.0);
+    for (int j = 0; j < J; ++j)
+      for (int k = 0; k < K; ++k)
+        lobes[static_cast<std::size_t>(j)].colour[ch][static_cast<std::size_t>(k)] = x[static_cast<std::size_t>(j * K + k)];
+  }
+  for (Lobe& l : lobes) {
+    double largest = 0.0;
+    for (const auto& c : l.colour)
+      for (double v : c) largest = std::max(largest, v);
+    l.specular = !blinn ? 1.0 : largest > 0.0 ? kWhiteFraction * largest : 1e-6;  // POV-Ray needs S > 0
   }
   if (blinn)  // x = S c: the pigment coefficients
     for (Lobe& l : lobes)
