@@ -193,7 +193,9 @@ def fit_error_text(description):
         return ""
     lobes = len(description["fit"].get("lobes", []))
     met = "" if error.get("target_met", True) else f" (target {error['target_p95']:.0%} not met)"
-    return f"{lobes} lobe{'s' if lobes != 1 else ''}: error median {error['median']:.1%}, p95 {error['p95']:.1%}{met}"
+    # EEVEE's GGX departs from analytic GGX on broad lobes (the exporter's "caveat"): say so.
+    eevee = "; EEVEE: higher (broad GGX lobes)" if description["fit"].get("eevee", {}).get("caveat") else ""
+    return f"{lobes} lobe{'s' if lobes != 1 else ''}: error median {error['median']:.1%}, p95 {error['p95']:.1%}{met}{eevee}"
 
 
 def cache_stem(request):

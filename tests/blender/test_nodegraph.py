@@ -160,6 +160,9 @@ def fit_case(directory, request):
           f"FIT stores its measured error (median {error['median']:.2%}, p95 {error['p95']:.2%})")
     check(core.fit_error_text(description).startswith(f"{len(fit['lobes'])} lobe"),
           f"panel text: {core.fit_error_text(description)}")
+    broad = any(0.35 <= lobe["roughness"] <= 0.85 for lobe in fit["eevee"]["lobes"])
+    check(bool(fit["eevee"].get("caveat")) == broad and ("EEVEE" in core.fit_error_text(description)) == broad,
+          f"EEVEE caveat stated exactly when a GGX lobe's roughness is in [0.35, 0.85] ({broad})")
     eevee = [node for node in graph.nodes if node.type == "ShaderNodeShaderToRGB"]
     check(len(eevee) == len(fit["eevee"]["lobes"]) and fit["eevee"]["signed"],
           f"EEVEE output: one Shader to RGB per signed GGX lobe ({len(eevee)})")

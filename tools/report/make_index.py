@@ -43,7 +43,7 @@ RENDERS = [
     ("fitscene", "renders/fit_scene.png",
      "FIT mode in a scene (issue 10): four default materials (au-s0.01, au-s0.15, au-s0.5, bk7-s0.05) on spheres "
      "over a grey ground, a uniform sky and two suns with shadows; Blender Cycles (the add-on's fitted Beckmann "
-     "lobes) beside POV-Ray (NAME_Fit: fitted Blinn lobes). POV-Ray's lobes see the sky only through the mirror "
+     "lobes) beside POV-Ray (NAME_Fit: fitted Blinn and Phong lobes). POV-Ray's lobes see the sky only through the mirror "
      "reflection. Each fit's measured error: table fit_scene_errors."),
 ]
 ALBEDO = [("albedo", "albedo.png",
@@ -244,7 +244,7 @@ def main():
                "radiance f_r cos θi (median, 95th percentile; orthographic spheres lit by one sun at 10–100° from "
                "the camera, θi, θs ≤ 70°, pixels above 1% of the maximum), with its number of lobes: Cycles "
                "(Beckmann), EEVEE (signed GGX through Shader to RGB; EEVEE's own GGX deviates from it, see the "
-               "README) and POV-Ray (Blinn). The exact one-sun renders are the comparison figures above.")
+               "README) and POV-Ray (Blinn and Phong). The exact one-sun renders are the comparison figures above.")
 
     text = ("<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>libbrdf main job report</title>"
             f"<style>{CSS}</style></head><body>" + "\n".join(page.parts) + "</body></html>\n")
