@@ -8,7 +8,6 @@
 #include "angular_simd.h"
 #include "libbrdf/beckmann_kirchhoff.h"
 #include "libbrdf/error.h"
-#include "libbrdf/kernel_table.h"
 
 namespace libbrdf {
 namespace {
@@ -222,8 +221,7 @@ void Model::evaluate_many(const ScatterGeometry* geos, std::size_t count, double
   const double eps_re = permittivity_.real(), eps_im = permittivity_.imag();
   constexpr std::size_t kBlock = 256;
   double k[kBlock], q_bar[kBlock], fresnel_d[kBlock], a[kBlock];
-  double table_g[kBlock], table_c[kBlock], table_sigma[kBlock];
-  std::size_t table_index[kBlock];
+  double g[kBlock], c[kBlock];
   const double prefactor = asf_arguments(surface_, ScatterGeometry{}).prefactor;  // pi (l_c/lambda)^2, eq. 11
   for (std::size_t begin = 0; begin < count; begin += kBlock) {
     const std::size_t n = std::min(kBlock, count - begin);
@@ -234,26 +232,15 @@ void Model::evaluate_many(const ScatterGeometry* geos, std::size_t count, double
     }
     if (needs.q_bar) detail::stover_q_bar_span(eps_re, eps_im, span, n, q_bar);
     if (needs.fresnel_d) detail::fresnel_d_span(eps_re, eps_im, span, n, fresnel_d);
-    // The ASF by asf_auto's method per query; the kernel-table queries together through
-    // KernelTable::sigma_many (one query per lane). Not asf_auto_batch: it shares series terms
-    // between neighbouring queries, and a value here must depend on its own geometry only
-    // (batch.h: a scalar call and an array call give the same bits).
+    // The ASF of the span in SIMD lanes (asf_auto_batch: asf_auto's method per query, each lane
+    // alone, so a value depends on its own geometry only: batch.h's scalar and array calls agree).
     if (needs.asf && !asf) {
-      std::size_t in_table = 0;
       for (std::size_t j = 0; j < n; ++j) {
         const AsfArguments args = asf_arguments(surface_, span[j]);
-        if (asf_regime(args, params_.tolerance) == AsfRegime::table) {
-          table_g[in_table] = args.g;
-          table_c[in_table] = args.c;
-          table_index[in_table++] = j;
-        } else {
-          a[j] = asf_auto(args, params_.tolerance, nullptr, params_.series);
-        }
+        g[j] = args.g;
+        c[j] = args.c;
       }
-      if (in_table > 0) {
-        KernelTable::instance().sigma_many(table_g, table_c, in_table, table_sigma);
-        for (std::size_t m = 0; m < in_table; ++m) a[table_index[m]] = prefactor * table_sigma[m];
-      }
+      asf_auto_batch(g, c, n, prefactor, params_.tolerance, params_.series, a);
     }
     for (std::size_t j = 0; j < n; ++j) {
       Factors f;

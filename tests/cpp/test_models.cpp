@@ -333,12 +333,12 @@ TEST(SpanPath, EvaluateManyMatchesEvaluateForEveryModel) {
         if (std::max(given, with_asf[j]) > kTiny) worst_given = std::max(worst_given, relative_difference(with_asf[j], given));
         if (std::max(automatic, without[j]) > kTiny) worst_auto = std::max(worst_auto, relative_difference(without[j], automatic));
       }
-      // Only the SIMD factors differ (a few ulp each), and the vector kernel-table lookup from the
-      // scalar one at tolerance 1e-4 (the same method per query as asf_auto).
+      // With the ASF given only the SIMD factors differ (a few ulp each); without it the ASFs of
+      // asf_auto_batch and asf_auto are each within the tolerance of the series.
       // kappa = 1000 (|eps| = 1e6): Qbar at grazing is conditioned to ~1e-10 (test_fresnel.cpp).
       const double bound = s.params.index && s.params.index->kappa > 100.0 ? 3e-10 : 1e-12;
       EXPECT_LE(worst_given, bound) << model_name(kind) << " on " << s.name;
-      EXPECT_LE(worst_auto, bound) << model_name(kind) << " on " << s.name;
+      EXPECT_LE(worst_auto, std::max(bound, 2.0 * s.params.tolerance)) << model_name(kind) << " on " << s.name;
     }
   }
 }

@@ -84,14 +84,13 @@ class Model {
   double evaluate(const ScatterGeometry& geo, double asf) const;
   // A span: out[k] = evaluate(geos[k]), or evaluate(geos[k], asf[k]) when `asf` is given (count
   // values). K, Qbar and F(theta_d) are computed over the span in SIMD (Google Highway), the ASF by
-  // the method evaluate() takes per query (asf_regime), the kernel-table queries in SIMD lanes
-  // (each value depends on its own geometry only, never on the span); the rest of each model's
-  // formula is the one evaluate() uses. Agrees with
+  // asf_auto_batch (evaluate()'s method per query, in SIMD lanes; each value depends on its own
+  // geometry only, never on the span); the rest of each model's formula is the one evaluate()
+  // uses. Agrees with
   // evaluate() to <= 1e-12 relative with `asf` given (tests/cpp/test_models.cpp: grazing angles,
   // n < 1, every model), 3e-10 for |n + i kappa| ~ 1000 at grazing (where the scalar Qbar itself is
-  // good to 1e-10 only), the same without `asf` (kernel-table values: <= 1e-12, the vector and the
-  // scalar lookup differ by rounding). No validation: what evaluate(geo) does not check, this does
-  // not either.
+  // good to 1e-10 only), and within 2 x the tolerance without `asf` (both ASFs within it of the
+  // series). No validation: what evaluate(geo) does not check, this does not either.
   void evaluate_many(const ScatterGeometry* geos, std::size_t count, double* out, const double* asf = nullptr) const;
 
   // Specular spike reflectance R_spec(ti) = F(ti) exp(-g(ti, ti)) (a delta lobe, not a BRDF
