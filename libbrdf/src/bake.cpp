@@ -478,13 +478,17 @@ LutError measure_lut_error(const Lut& lut, const std::vector<Model>& models, int
       if (feasible) points.push_back(a);
     }
     std::vector<double> relative(points.size() * channels, -1.0);  // -1: below the floor
+    // The model values of a range as spans (Model::evaluate_many: SIMD factors, batched ASF).
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size()), [&](const tbb::blocked_range<std::size_t>& range) {
-      for (std::size_t p = range.begin(); p != range.end(); ++p) {
-        const ScatterGeometry geo = make_scatter_geometry(points[p]);
-        for (int c = 0; c < channels; ++c) {
-          const double model = models[c].evaluate(geo);
-          if (!(model >= error.floor) || model <= 0.0) continue;
-          relative[p * channels + c] = std::abs(lut.lookup(c, geo) - model) / model;
+      const std::size_t n = range.size();
+      std::vector<ScatterGeometry> geos(n);
+      std::vector<double> model(n);
+      make_scatter_geometries(points.data() + range.begin(), n, geos.data());
+      for (int c = 0; c < channels; ++c) {
+        models[c].evaluate_many(geos.data(), n, model.data());
+        for (std::size_t j = 0; j < n; ++j) {
+          if (!(model[j] >= error.floor) || model[j] <= 0.0) continue;
+          relative[(range.begin() + j) * channels + c] = std::abs(lut.lookup(c, geos[j]) - model[j]) / model[j];
         }
       }
     });
