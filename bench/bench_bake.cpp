@@ -7,7 +7,9 @@
 //                     per_node:1/strided:1 is the landed path (node by node through Model::evaluate,
 //                     the scalar strided series for the rows' ASF); per_node:1/strided:0 the same with
 //                     the SIMD series; per_node:0/strided:0 the default (each row of nodes one span
-//                     through Model::evaluate_many). speedup = landed CPU seconds / this one's.
+//                     through Model::evaluate_many). speedup = landed CPU seconds / this one's. All
+//                     three share the K tables' quadrature and the error sampling (since made faster
+//                     too: SIMD-lane ASF), so against the code before issue 9 the ratio is larger.
 //   bake/merl_cached  the same bakes with the K tables already cached (the node evaluations and the
 //                     error sampling); max_table_diff = largest difference from the landed table,
 //                     diff_vs_per_node = the span path's from per node with the same (SIMD) series,
