@@ -170,9 +170,9 @@ class UnclearErrors(Case):
             self.assertEqual(os.listdir(d), [])
 
 
-def small_bake(path, extra=(), sigma="0.1"):
+def small_bake(path, extra=(), sigma="0.1", error_samples=2000):
     return [BRDF, "bake", "--model", "mbk", "--material", "Au", "--sigma-s", sigma, "--lc", "2",
-            "--error-samples", "2000", "-o", path] + list(extra)
+            "--error-samples", str(error_samples), "-o", path] + list(extra)
 
 
 class LutFiles(Case):
@@ -234,7 +234,10 @@ class Interrupts(Case):
                     extra = ["--resolution", "48,48,48"] if layout == "rusinkiewicz" else []
                     # Default dispositions in the child: under a background shell SIGINT arrives ignored,
                     # and brdf rightly keeps an ignored signal ignored.
-                    proc = subprocess.Popen(small_bake(target, extra), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                    # 1e6 error samples (the maximum) keep each run ~1 s long (the nodes alone take ~0.2 s since the
+                    # span path), so that signals sent 0.05-1 s in land mid-run: in the bake or the
+                    # error measurement, both before the rename.
+                    proc = subprocess.Popen(small_bake(target, extra, error_samples=1_000_000), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                                             preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
                     time.sleep(rng.uniform(0.05, 1.0))
                     proc.send_signal(signum)
