@@ -189,7 +189,7 @@ TEST(FinishFit, FittedBlinnLobesFollowPovRaysLightingAndMeetTheirMeasure) {
   // The fit's own measure (fit.h) on a rough gold lobe; the renders in test_fit_render.py check it
   // against POV-Ray per pixel.
   EXPECT_GT(fit.lobes.quality.values, 1000u);
-  EXPECT_LT(fit.lobes.quality.median, 0.20);  // Blinn/Phong lobes lack the 1/cos(theta_s) of MBK's lobe
+  EXPECT_LT(fit.lobes.quality.median, 0.20);  // N.V-coloured Blinn/Phong lobes miss the lobe's theta_d dependence
   // R_spec -> 1 at grazing (F -> 1, g -> 0); min is R_spec at normal incidence, tiny when rough.
   for (int k = 0; k < 3; ++k) {
     EXPECT_EQ(fit.reflection_max[static_cast<std::size_t>(k)], 1.0);
