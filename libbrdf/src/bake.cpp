@@ -125,19 +125,8 @@ RowTrig row_trig(const Lut& lut, int i0, int i1, const std::array<double, 3>& sp
 }
 
 // Incident and scattered directions of node k of a row (unit up to rounding, z may be <= 0).
-struct NodeDirections {
-  double ix, iy, iz, sx, sy, sz;
-};
-NodeDirections node_directions(const RowFrame& f, const RowTrig& t, int k) {
-  const double dx = t.sin_d * f.cos_phi_d[k], dy = t.sin_d * f.sin_phi_d[k];
-  NodeDirections n;
-  n.ix = dx * t.cos_h + t.cos_d * t.sin_h;
-  n.iy = dy;
-  n.iz = -dx * t.sin_h + t.cos_d * t.cos_h;
-  n.sx = 2.0 * t.cos_d * t.sin_h - n.ix;
-  n.sy = -n.iy;
-  n.sz = 2.0 * t.cos_d * t.cos_h - n.iz;
-  return n;
+detail::HalfDifferenceDirections node_directions(const RowFrame& f, const RowTrig& t, int k) {
+  return detail::directions_from_half_difference(t.sin_h, t.cos_h, t.sin_d, t.cos_d, f.cos_phi_d[k], f.sin_phi_d[k]);
 }
 
 void row_geometries(const RowFrame& f, const RowTrig& t, int row_length, ScatterGeometry* geos,
@@ -154,7 +143,7 @@ void row_geometries(const RowFrame& f, const RowTrig& t, int row_length, Scatter
     }
   };
   for (int k = 0; k < row_length; ++k) {
-    const NodeDirections n = node_directions(f, t, k);
+    const detail::HalfDifferenceDirections n = node_directions(f, t, k);
     const double rho_i = std::sqrt(n.ix * n.ix + n.iy * n.iy), rho_s = std::sqrt(n.sx * n.sx + n.sy * n.sy);
     if (!(rho_i > 1e-4 && rho_s > 1e-4)) {
       scalar_nodes.push_back(k);
@@ -428,7 +417,7 @@ LutError measure_lut_error(const Lut& lut, const std::vector<Model>& models, int
     for (int k = 0; k < row_length; ++k) {
       const int i0 = slice ? row : row / lut.shape[1], i1 = slice ? k : row % lut.shape[1], i2 = slice ? 0 : k;
       if (by_directions) {
-        const NodeDirections n = node_directions(frame, trig, k);
+        const detail::HalfDifferenceDirections n = node_directions(frame, trig, k);
         const int incident = classify(n.ix, n.iy, n.iz), scattered = classify(n.sx, n.sy, n.sz);
         if (incident == 0 || scattered == 0) continue;
         if (incident == 1 && scattered == 1) {

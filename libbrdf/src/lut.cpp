@@ -56,12 +56,9 @@ HalfDifferenceAngles half_difference_angles(const ScatterGeometry& geo) {
 }
 
 ScatterAngles scatter_angles_from_half_difference(const HalfDifferenceAngles& hd) {
-  const double sin_h = std::sin(hd.theta_h), cos_h = std::cos(hd.theta_h);
-  const double sin_d = std::sin(hd.theta_d), cos_d = std::cos(hd.theta_d);
-  const double dx = sin_d * std::cos(hd.phi_d), dy = sin_d * std::sin(hd.phi_d), dz = cos_d;
-  // i = R_y(theta_h) d (phi_h = 0); s = 2 (i.h) h - i with i.h = cos theta_d.
-  const double ix = dx * cos_h + dz * sin_h, iy = dy, iz = -dx * sin_h + dz * cos_h;
-  const double sx = 2.0 * cos_d * sin_h - ix, sy = -iy, sz = 2.0 * cos_d * cos_h - iz;
+  const detail::HalfDifferenceDirections v = detail::directions_from_half_difference(
+      std::sin(hd.theta_h), std::cos(hd.theta_h), std::sin(hd.theta_d), std::cos(hd.theta_d), std::cos(hd.phi_d), std::sin(hd.phi_d));
+  const double ix = v.ix, iy = v.iy, iz = v.iz, sx = v.sx, sy = v.sy, sz = v.sz;
   ScatterAngles a;
   a.theta_i = std::atan2(std::sqrt(ix * ix + iy * iy), iz);  // unit vectors: no std::hypot needed
   a.theta_s = std::atan2(std::sqrt(sx * sx + sy * sy), sz);
@@ -150,16 +147,16 @@ inline double linear_1d(const std::vector<float>& table, double theta_i) {
 namespace {
 struct TrilinearTable {
   const float* values;
-  std::size_t nodes, n2, n12;
-  int n0, n1, n2_nodes;
+  std::size_t nodes, n12;  // nodes per channel; stride of the theta_h axis
+  int n0, n1, n2;          // nodes per axis (n2: the phi_d axis, stride 1)
   double scale0, scale1, scale2;  // angle -> index position (theta_h: of its square root)
 
   explicit TrilinearTable(const Lut& lut) {
     const std::array<double, 3> span = detail::lut_axis_spans(lut.layout, lut.shape);
     values = lut.values.data();
     nodes = lut.nodes_per_channel();
-    n0 = lut.shape[0], n1 = lut.shape[1], n2_nodes = lut.shape[2];
-    n2 = n2_nodes, n12 = static_cast<std::size_t>(n1) * n2;
+    n0 = lut.shape[0], n1 = lut.shape[1], n2 = lut.shape[2];
+    n12 = static_cast<std::size_t>(n1) * n2;
     scale0 = span[0], scale1 = span[1] / (0.5 * kPi), scale2 = span[2] / kPi;
   }
 
@@ -169,8 +166,8 @@ struct TrilinearTable {
     int i0, i1, i2;
     split_index(std::sqrt(f0) * scale0, n0, i0, t0);  // square map (lut.h)
     split_index(a.theta_d * scale1, n1, i1, t1);
-    split_index(a.phi_d * scale2, n2_nodes, i2, t2);
-    return i0 * n12 + i1 * n2 + i2;
+    split_index(a.phi_d * scale2, n2, i2, t2);
+    return i0 * n12 + static_cast<std::size_t>(i1) * n2 + i2;
   }
 
   void prefetch(int channel, std::size_t corner) const {
@@ -264,13 +261,14 @@ void kernel_span(const Lut& lut, const ScatterGeometry* geos, const detail::Tabl
       kernel_angular_factors(lut, angles[begin + k], first_channel, channel_count, values + (begin + k) * channel_count);
     for (int ch = 0; ch < channel_count; ++ch) {
       const int channel = first_channel + ch;
-      const double s = lut.kernel_sigma_over_lambda[channel], l = lut.kernel_lc_over_lambda[channel];
-      const double prefactor = kPi * l * l;  // pi (l_c/lambda)^2
+      // The surface in units of the wavelength: what g (eq. 12) and c depend on.
+      const Surface surface{lut.kernel_sigma_over_lambda[channel], lut.kernel_lc_over_lambda[channel], 1.0};
+      double prefactor = 0.0;
       for (std::size_t k = 0; k < n; ++k) {
-        const ScatterGeometry& geo = geos[begin + k];
-        const double k_wave = 2.0 * kPi * s * (geo.cos_theta_i + geo.cos_theta_s);
-        g[k] = k_wave * k_wave;                 // eq. 12
-        c[k] = kPi * prefactor * geo.eta_r2;    // pi^2 (l_c/lambda)^2 eta_r^2
+        const AsfArguments args = asf_arguments(surface, geos[begin + k]);
+        g[k] = args.g;
+        c[k] = args.c;
+        prefactor = args.prefactor;
       }
       asf_auto_batch(g, c, n, prefactor, kKernelTableCertifiedError, SeriesOptions{}, asf);
       const Complex permittivity = lut.kernel_index[channel].permittivity();

@@ -38,6 +38,26 @@ void lookup_all_span(const Lut& lut, const ScatterGeometry* geos, std::size_t co
 
 Direction normalized(const Direction& d);
 
+// Incident i and scattered s of a half/difference triple (phi_h = 0), from the sines and cosines
+// of theta_h, theta_d, phi_d: i = R_y(theta_h) d with d = (sin td cos pd, sin td sin pd, cos td),
+// s = 2 (i.h) h - i with i.h = cos theta_d. Unit up to rounding; z <= 0 below the horizon.
+// (scatter_angles_from_half_difference, and the bake's rows in Cartesian form.)
+struct HalfDifferenceDirections {
+  double ix, iy, iz, sx, sy, sz;
+};
+inline HalfDifferenceDirections directions_from_half_difference(double sin_h, double cos_h, double sin_d, double cos_d,
+                                                                double cos_phi_d, double sin_phi_d) {
+  const double dx = sin_d * cos_phi_d, dy = sin_d * sin_phi_d;
+  HalfDifferenceDirections v;
+  v.ix = dx * cos_h + cos_d * sin_h;
+  v.iy = dy;
+  v.iz = -dx * sin_h + cos_d * cos_h;
+  v.sx = 2.0 * cos_d * sin_h - v.ix;
+  v.sy = -v.iy;
+  v.sz = 2.0 * cos_d * cos_h - v.iz;
+  return v;
+}
+
 // Angles at a (possibly fractional) index position; `feasible` = both directions strictly above
 // the horizon. No horizon limit applied.
 ScatterAngles angles_at_index(LutLayout layout, const std::array<int, 3>& shape, double x0, double x1, double x2,
