@@ -336,7 +336,7 @@ void asf_auto_batch(const double* g, const double* c, std::size_t count, double 
   }
   // asf_auto's series truncation, and which batch kernels apply.
   SeriesOptions series = options;
-  if (tolerance > 0.0) series.relative_tolerance = std::max(options.relative_tolerance, 0.1 * tolerance);
+  series.relative_tolerance = detail::auto_series_truncation(tolerance, options.relative_tolerance);
   const bool lanes = series.relative_tolerance >= detail::kLaneMinTolerance;
   const KernelTable* table = tolerance >= kKernelTableCertifiedError ? &KernelTable::instance() : nullptr;
   constexpr std::size_t kChunk = 1024;

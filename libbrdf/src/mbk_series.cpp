@@ -272,10 +272,8 @@ double asf(const Surface& surface, const ScatterGeometry& geo, const SeriesOptio
 }
 
 double asf_auto(const AsfArguments& args, double tolerance, AsfRegime* regime, const SeriesOptions& options) {
-  // The series is truncated at a tenth of the tolerance the caller allows (its rigorous tail
-  // bound), never tighter than asked for by `options`.
   SeriesOptions series = options;
-  if (tolerance > 0.0) series.relative_tolerance = std::max(options.relative_tolerance, 0.1 * tolerance);
+  series.relative_tolerance = detail::auto_series_truncation(tolerance, options.relative_tolerance);
   const AsfRegime chosen = asf_regime(args, tolerance);
   double sum;
   switch (chosen) {

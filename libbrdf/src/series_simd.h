@@ -22,6 +22,13 @@ struct StrideRule {
 };
 StrideRule stride_rule(double relative_tolerance);
 
+// asf_auto's series truncation (mbk_series.h), also used by asf_auto_batch: a tenth of the
+// tolerance the caller allows (the rigorous tail bound), never tighter than the options ask for;
+// tolerance 0: the options' own.
+inline double auto_series_truncation(double tolerance, double options_tolerance) {
+  return tolerance > 0.0 && 0.1 * tolerance > options_tolerance ? 0.1 * tolerance : options_tolerance;
+}
+
 struct SeriesBlockStats {
   long long blocks = 0;  // SIMD blocks evaluated (each series_lanes() terms)
 };
