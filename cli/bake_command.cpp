@@ -26,6 +26,7 @@ namespace {
 struct BakeOptions {
   ModelOptions model;
   std::string layout;
+  std::string kernel_angular;  // closed-form (default) | table
   std::string resolution;
   std::optional<double> target_error;
   std::string light_dir, view_dir;
@@ -107,6 +108,12 @@ int run_bake(const BakeOptions& o) {
   } else if (request.layout != LutLayout::slice && (!o.light_dir.empty() || !o.view_dir.empty())) {
     throw InvalidArgument(o.light_dir.empty() ? "view-dir" : "light-dir", "only used by layout slice");
   }
+  if (!o.kernel_angular.empty()) {
+    if (request.layout != LutLayout::kernel) throw InvalidArgument("kernel-angular", "only used by layout kernel");
+    if (o.kernel_angular == "table") request.kernel_angular = libbrdf::KernelAngular::table;
+    else if (o.kernel_angular != "closed-form")
+      throw InvalidArgument("kernel-angular", "must be closed-form or table (got '" + o.kernel_angular + "')");
+  }
   if (!o.resolution.empty()) request.resolution = parse_node_counts(o.resolution, request.layout == libbrdf::LutLayout::slice ? 2 : 3);
   request.target_error = o.target_error;
   request.error_samples = o.error_samples.empty() ? 20000 : static_cast<int>(parse_whole_number(o.error_samples, 1, kMaxErrorSamples, "error-samples"));
@@ -151,6 +158,9 @@ void register_bake(CLI::App& app, ActionTable& actions) {
   CLI::App* command = app.add_subcommand("bake", "Bake a BRDF model into a table (OpenEXR or MERL binary) and measure its error");
   add_model_options(*command, options->model);
   command->add_option("--layout", options->layout, "Table layout: rusinkiewicz (default) | merl | slice | kernel (factored ASF models: K F P x Sigma(g, c))");
+  command->add_option("--kernel-angular", options->kernel_angular,
+                      "Layout kernel: closed-form (default; the angular factor P evaluated at lookup: mbk, bk, bk-modified) | "
+                      "table (P / F on the grid, what the Blender atlas holds; mbk-fg always)");
   command->add_option("--resolution", options->resolution, "Nodes per axis A,B,C (slice: A,B)");
   command->add_option("--target-error", options->target_error,
                       "Smallest table whose measured max relative error is <= REL (grid grows by 1.25 per axis)");

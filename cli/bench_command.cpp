@@ -47,6 +47,7 @@ namespace brdf_cli {
 
 namespace {
 
+using libbrdf::KernelAngular;
 using libbrdf::LutLayout;
 using libbrdf::Model;
 using libbrdf::ModelKind;
@@ -223,12 +224,15 @@ class Bench {
     add_lut_row(ModelKind::mbk, s, LutLayout::slice, {64, 32, 1});
     add_lut_row(ModelKind::mbk, s, LutLayout::slice, {256, 128, 1});
     if (!quick_) add_lut_row(ModelKind::mbk, s, LutLayout::slice, {1024, 512, 1});
-    add_lut_row(ModelKind::mbk, s, LutLayout::kernel, {32, 32, 32});
-    add_lut_row(ModelKind::mbk, s, LutLayout::kernel, libbrdf::default_resolution(LutLayout::kernel));
-    add_lut_row(ModelKind::bk_modified, s, LutLayout::kernel, libbrdf::default_resolution(LutLayout::kernel));
+    // Kernel layout: P~ tabulated (what the Blender atlas holds) and all of P in closed form (2^3).
+    add_lut_row(ModelKind::mbk, s, LutLayout::kernel, {32, 32, 32}, KernelAngular::table);
+    add_lut_row(ModelKind::mbk, s, LutLayout::kernel, libbrdf::default_resolution(LutLayout::kernel), KernelAngular::table);
+    add_lut_row(ModelKind::mbk, s, LutLayout::kernel, {2, 2, 2}, KernelAngular::closed_form);
+    add_lut_row(ModelKind::bk_modified, s, LutLayout::kernel, {2, 2, 2}, KernelAngular::closed_form);
     // Three-channel lookups (Lut::lookup_all: coordinates once, no acos/atan2 calls).
     add_rgb_lookup_row(s, LutLayout::rusinkiewicz, std::array<int, 3>{n, n, n});
-    add_rgb_lookup_row(s, LutLayout::kernel, libbrdf::default_resolution(LutLayout::kernel));
+    add_rgb_lookup_row(s, LutLayout::kernel, libbrdf::default_resolution(LutLayout::kernel), KernelAngular::table);
+    add_rgb_lookup_row(s, LutLayout::kernel, {2, 2, 2}, KernelAngular::closed_form);
   }
 
   // The MERL-size bake (90 x 90 x 180 x 3 wavelengths, mbk with K): nodes x channels per second.
@@ -322,7 +326,13 @@ class Bench {
     rows_.push_back(row);
   }
 
-  void add_lut_row(ModelKind kind, const BenchSurface& s, LutLayout layout, const std::array<int, 3>& shape) {
+  static std::string kernel_variant(LutLayout layout, KernelAngular angular) {
+    if (layout != LutLayout::kernel) return "";
+    return angular == KernelAngular::table ? " (P~ table)" : " (closed-form P)";
+  }
+
+  void add_lut_row(ModelKind kind, const BenchSurface& s, LutLayout layout, const std::array<int, 3>& shape,
+                   KernelAngular angular = KernelAngular::table) {
     const bool slice = layout == LutLayout::slice;
     Reference& ref = reference(kind, s, slice);
     libbrdf::BakeRequest request;
@@ -333,9 +343,10 @@ class Bench {
     request.light = kSunDirection;
     request.view = kCameraDirection;
     request.error_samples = 2000;  // the bench measures against the reference itself
+    request.kernel_angular = angular;
     const libbrdf::Lut lut = libbrdf::bake(request);
     const QuerySet& q = slice ? slice_ : full_;
-    Row row{"lut", std::string(libbrdf::model_name(kind)), s.name, "table of the default model",
+    Row row{"lut", std::string(libbrdf::model_name(kind)), s.name, "table of the default model" + kernel_variant(layout, angular),
             std::string(libbrdf::layout_name(layout)), libbrdf::shape_text(lut.shape, lut.layout)};
     row.nodes = double(lut.nodes_per_channel());
     row.bytes = table_bytes(lut);
@@ -355,14 +366,16 @@ class Bench {
 
   // Lookups of all three channels of a 3-wavelength table (0.65, 0.55, 0.45 um) per second; the
   // error columns are channel 1 (0.55 um) against the reference.
-  void add_rgb_lookup_row(const BenchSurface& s, LutLayout layout, const std::array<int, 3>& shape) {
+  void add_rgb_lookup_row(const BenchSurface& s, LutLayout layout, const std::array<int, 3>& shape,
+                          KernelAngular angular = KernelAngular::table) {
     Reference& ref = reference(ModelKind::mbk, s, false);
     libbrdf::BakeRequest request = rgb_gold_request(s);
     request.layout = layout;
     request.resolution = shape;
     request.error_samples = 2000;
+    request.kernel_angular = angular;
     const libbrdf::Lut lut = libbrdf::bake(request);
-    Row row{"lut3", "mbk", s.name, "3-channel lookups (lookup_all)", std::string(libbrdf::layout_name(layout)),
+    Row row{"lut3", "mbk", s.name, "3-channel lookups (lookup_all)" + kernel_variant(layout, angular), std::string(libbrdf::layout_name(layout)),
             libbrdf::shape_text(lut.shape, lut.layout)};
     row.nodes = double(lut.nodes_per_channel());
     row.bytes = table_bytes(lut);

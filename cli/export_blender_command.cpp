@@ -124,6 +124,7 @@ int run_export_blender(const ExportBlenderOptions& o) {
       // The factored form (blender.h): only the side rows depend on sigma_s and l_c (and P~ of
       // mbk-fg); the angular atlas and the Sigma image are reused when present beside the output.
       request.layout = libbrdf::LutLayout::kernel;
+      request.kernel_angular = libbrdf::KernelAngular::table;  // the node graph reads P~ from the atlas
       // The shared images beside the output, spelt as the output's own directory: the publication
       // locks each target directory by its path, and two spellings of one directory would deadlock.
       const fs::path directory = output.parent_path();

@@ -166,6 +166,17 @@ void row_geometries(const RowFrame& f, const RowTrig& t, int row_length, Scatter
 // eta_r = 2 cos td sin th: it is computed once per row (Model::asf_at) and passed to
 // Model::evaluate(geo, asf) at every node of the row -- also at nodes whose directions the
 // horizon rule limits (lut.h: they hold the ASF of their own (theta_h, theta_d)).
+// Kernel layout: a node's P~ = P / K(theta_i) / (the closed-form part of P) (lut.h), P the model
+// with A = 1. Where the closed form is all of P, P~ = 1 exactly; where it vanishes (n = 1, k = 0:
+// F = Qbar = 0), so does P and the node holds 1 (any finite value gives the same product, 0).
+double kernel_node_value(const Lut& lut, const Model& model, int channel, double theta_i, const ScatterGeometry& geo) {
+  if (detail::kernel_angular_all_closed(lut.kernel_model, lut.kernel_angular)) return 1.0;
+  double closed = 0.0;
+  detail::kernel_closed_form_span(lut, channel, &geo, 1, &closed);
+  const double divisor = model.renormalization(theta_i) * closed;
+  return divisor > 0.0 ? model.evaluate(geo, 1.0) / divisor : 1.0;
+}
+
 void bake_nodes(const BakeRequest& r, const std::vector<Model>& models, Lut& lut, detail::BakeNodePath path) {
   const int channels = lut.channels();
   const std::size_t nodes = lut.nodes_per_channel();
@@ -224,13 +235,9 @@ void bake_nodes(const BakeRequest& r, const std::vector<Model>& models, Lut& lut
           const ScatterAngles angles = node_angles(k);
           const ScatterGeometry geo = make_scatter_geometry(angles);
           for (int c = 0; c < channels; ++c) {
-            // kernel layout: the angular factor P = f(A = 1) / K(theta_i) (lut.h).
-            const double value = kernel ? models[c].evaluate(geo, 1.0) / (models[c].renormalization(angles.theta_i) *
-                                                                          fresnel_reflectance(lut.kernel_index[c].permittivity(), geo.cos_theta_d) *
-                                                                          detail::kernel_closed_form_factor(lut.kernel_model, geo))
-                                 : row_feasible && models[c].uses_asf() ? models[c].evaluate(geo, row_asf[c])
-                                                                        : models[c].evaluate(geo);
-            store(k, c, value);
+            store(k, c, kernel ? kernel_node_value(lut, models[c], c, angles.theta_i, geo)
+                               : row_feasible && models[c].uses_asf() ? models[c].evaluate(geo, row_asf[c])
+                                                                      : models[c].evaluate(geo));
           }
         }
       }
@@ -278,6 +285,7 @@ Lut bake_table(const BakeRequest& r, const std::vector<Model>& models, const std
   for (const ModelParameters& p : r.channels) lut.wavelengths_um.push_back(p.wavelength_um);
   if (lut.layout == LutLayout::kernel) {
     lut.kernel_model = r.model;
+    lut.kernel_angular = r.model == ModelKind::mbk_fg ? KernelAngular::table : r.kernel_angular;
     for (const Model& m : models) {
       lut.kernel_sigma_over_lambda.push_back(m.surface().sigma_over_lambda());
       lut.kernel_lc_over_lambda.push_back(m.surface().lc_over_lambda());
@@ -330,12 +338,16 @@ Lut detail::bake(const BakeRequest& r, BakeNodePath path) {
     check_cancel(r);
     models.emplace_back(r.model, p);  // validates the parameters; builds (or reuses) the K table
   }
+  // A kernel table whose angular factor is all closed form holds P~ = 1: the smallest shape.
+  const bool ones = r.layout == LutLayout::kernel && r.kernel_angular == KernelAngular::closed_form &&
+                    detail::kernel_angular_all_closed(r.model, r.kernel_angular);
+  constexpr std::array<int, 3> kOnesShape{2, 2, 2};
   if (!r.target_error) {
-    Lut lut = bake_table(r, models, r.resolution ? *r.resolution : default_resolution(r.layout), path);
+    Lut lut = bake_table(r, models, r.resolution ? *r.resolution : ones ? kOnesShape : default_resolution(r.layout), path);
     detail::check_lut_consistency(lut, "bake");
     return lut;
   }
-  std::array<int, 3> shape = target_error_start_resolution(r.layout);
+  std::array<int, 3> shape = ones ? kOnesShape : target_error_start_resolution(r.layout);
   std::string trials;
   char buffer[64];
   for (;;) {

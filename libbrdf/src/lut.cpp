@@ -9,6 +9,7 @@
 #include "libbrdf/error.h"
 #include "libbrdf/beckmann_kirchhoff.h"
 #include "libbrdf/kernel_table.h"
+#include "angular_simd.h"
 #include "lut_internal.h"
 
 namespace libbrdf {
@@ -254,7 +255,7 @@ void kernel_angular_factors(const Lut& lut, const detail::TableAngles& a, int fi
 void kernel_span(const Lut& lut, const ScatterGeometry* geos, const detail::TableAngles* angles, std::size_t count,
                  int first_channel, int channel_count, double* values) {
   constexpr std::size_t kBlock = 64;
-  double g[kBlock], c[kBlock], asf[kBlock];
+  double g[kBlock], c[kBlock], asf[kBlock], closed[kBlock];
   for (std::size_t begin = 0; begin < count; begin += kBlock) {
     const std::size_t n = std::min(kBlock, count - begin);
     for (std::size_t k = 0; k < n; ++k)
@@ -271,12 +272,10 @@ void kernel_span(const Lut& lut, const ScatterGeometry* geos, const detail::Tabl
         prefactor = args.prefactor;
       }
       asf_auto_batch(g, c, n, prefactor, kKernelTableCertifiedError, SeriesOptions{}, asf);
-      const Complex permittivity = lut.kernel_index[channel].permittivity();
+      detail::kernel_closed_form_span(lut, channel, geos + begin, n, closed);
       for (std::size_t k = 0; k < n; ++k) {
-        const ScatterGeometry& geo = geos[begin + k];
         double& out = values[(begin + k) * channel_count + ch];
-        out *= linear_1d(lut.renormalization[channel], angles[begin + k].theta_i) * fresnel_reflectance(permittivity, geo.cos_theta_d) *
-               detail::kernel_closed_form_factor(lut.kernel_model, geo) * asf[k];
+        out *= linear_1d(lut.renormalization[channel], angles[begin + k].theta_i) * closed[k] * asf[k];
       }
     }
   }
@@ -326,12 +325,21 @@ void detail::lookup_all_span(const Lut& lut, const ScatterGeometry* geos, std::s
   }
 }
 
-double detail::kernel_closed_form_factor(ModelKind model, const ScatterGeometry& geo) {
-  switch (model) {
-    case ModelKind::bk: return bk_geometric_factor_eq26(geo);
-    case ModelKind::bk_modified: return inverse_s_term_eq28(geo);
-    default: return 1.0;
+bool detail::kernel_angular_all_closed(ModelKind model, KernelAngular angular) {
+  return model == ModelKind::bk || model == ModelKind::bk_modified || (model == ModelKind::mbk && angular == KernelAngular::closed_form);
+}
+
+void detail::kernel_closed_form_span(const Lut& lut, int channel, const ScatterGeometry* geos, std::size_t count, double* out) {
+  const Complex eps = lut.kernel_index[channel].permittivity();
+  if (lut.kernel_model == ModelKind::mbk && lut.kernel_angular == KernelAngular::closed_form) {
+    detail::stover_q_bar_span(eps.real(), eps.imag(), geos, count, out);  // P = Qbar (conventions.md)
+    return;
   }
+  detail::fresnel_d_span(eps.real(), eps.imag(), geos, count, out);  // F(theta_d)
+  if (lut.kernel_model == ModelKind::bk)
+    for (std::size_t k = 0; k < count; ++k) out[k] *= bk_geometric_factor_eq26(geos[k]);
+  else if (lut.kernel_model == ModelKind::bk_modified)
+    for (std::size_t k = 0; k < count; ++k) out[k] *= inverse_s_term_eq28(geos[k]);
 }
 
 double Lut::lookup(int channel, const ScatterGeometry& geo) const {

@@ -22,9 +22,13 @@ struct TableAngles {
   double theta_h, theta_d, phi_d, theta_i;
 };
 void table_angles(const ScatterGeometry* geos, std::size_t count, TableAngles* out);
-// Kernel layout: the closed-form part of the angular factor (F_bk^2 of eq. 26 for bk, 1/S of eq.
-// 28 for bk-modified, 1 otherwise); the table holds the rest.
-double kernel_closed_form_factor(ModelKind model, const ScatterGeometry& geo);
+// Kernel layout: the closed-form part of the angular factor P of a channel (lut.h), evaluated at
+// lookup; the table holds P~ = P / K / that. F(theta_d) times F_bk^2 of eq. 26 (bk), 1/S of eq. 28
+// (bk-modified), 1 (mbk-fg, mbk with the table form); Stover's Qbar for mbk in the closed form.
+// Over a span of geometries (SIMD Fresnel and Qbar): out[k] for geos[k].
+void kernel_closed_form_span(const Lut& lut, int channel, const ScatterGeometry* geos, std::size_t count, double* out);
+// True when the closed-form part is all of P (the table holds 1).
+bool kernel_angular_all_closed(ModelKind model, KernelAngular angular);
 // Interpolated values of channels [first, first + channel_count) at `count` geometries with their
 // TableAngles: values[k * channel_count + c].
 void lookup_span(const Lut& lut, const ScatterGeometry* geos, const TableAngles* angles, std::size_t count, int first_channel,

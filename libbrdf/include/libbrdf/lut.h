@@ -54,6 +54,17 @@
 //                Sigma outside the kernel table's domain: closed forms or the series at the
 //                table's certified error. All the sharpness of the lobe is in Sigma, so a small
 //                P table holds polished surfaces as well as rough ones.
+//                Lut::kernel_angular (header attribute libbrdf:kernel_angular, absent = table)
+//                says which part of P is closed form: `table` as above; `closed-form` (the
+//                default of `brdf bake --layout kernel` for mbk, bk and bk-modified) evaluates all
+//                of P at lookup (mbk: Stover's Qbar from kernel_index; bk, bk-modified as above)
+//                and its table holds P~ = 1 on 2^3 nodes. Why: Qbar is not smooth everywhere. For
+//                n < 1 (k = 0) it and F(theta_d) have square-root kinks at the critical angle
+//                (measured: n = 0.5 tabulated at 54^3, max relative error 0.78, at theta_d = 30
+//                deg), and for metals with large kappa at short l_c it is steep at grazing (Al,
+//                sigma_s = 0.05 um, l_c = 1 um: 4.5e-3); closed form, only K (1D) and Sigma are
+//                interpolated. Renderers that cannot evaluate Qbar (the Blender node graph) bake
+//                the `table` form.
 // Nodes whose incident or scattered direction lies on or below the horizon (theta >= 90 deg, e.g.
 // theta_d = 90 deg, or theta_h + theta_d > 90 deg in the incidence plane) hold the model at those
 // directions with the polar angles limited to kHorizonThetaLimitDeg (azimuths unchanged); for the
@@ -82,6 +93,8 @@
 namespace libbrdf {
 
 enum class LutLayout { rusinkiewicz, merl, slice, kernel };
+// Kernel layout: which part of the angular factor P is tabulated (see "kernel" above).
+enum class KernelAngular { table, closed_form };
 std::string_view layout_name(LutLayout layout);
 LutLayout layout_from_name(std::string_view name);  // throws InvalidArgument("layout", ...)
 // "N0xN1xN2" ("N0xN1" for the 2D slice layout), for messages and reports.
@@ -139,6 +152,7 @@ class Lut {
   std::vector<double> kernel_sigma_over_lambda, kernel_lc_over_lambda;  // kernel layout only, per channel
   std::vector<ComplexIndex> kernel_index;   // kernel layout only: n + i kappa per channel (F(theta_d))
   ModelKind kernel_model = ModelKind::mbk;  // kernel layout only: bk and bk-modified have closed-form P~
+  KernelAngular kernel_angular = KernelAngular::table;  // kernel layout only: what the P table holds
   LutError error;                           // measured at bake time, stored in the file
   std::map<std::string, std::string> attributes;  // model name, parameters, version, ... (file metadata)
 
@@ -169,6 +183,9 @@ struct BakeRequest {
   ModelKind model = ModelKind::mbk;           // must be a BRDF (is_brdf)
   std::vector<ModelParameters> channels;      // one per wavelength
   LutLayout layout = LutLayout::rusinkiewicz;
+  // Kernel layout: closed_form where the model has one for all of P (mbk, bk, bk-modified; mbk-fg
+  // stays table), else table. The default table shape of closed_form is 2^3 (P~ = 1).
+  KernelAngular kernel_angular = KernelAngular::closed_form;
   std::optional<std::array<int, 3>> resolution;  // nodes per axis; absent = default or target_error
   std::optional<double> target_error;         // smallest table whose measured max relative error meets it
   Direction light, view;                      // slice layout
