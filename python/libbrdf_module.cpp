@@ -405,9 +405,14 @@ Out-of-domain values raise libbrdf.InvalidArgument (a ValueError) naming the par
            py::arg("rho_d") = 0.0, py::arg("g_term") = "smith", py::arg("k_mode") = "plane",
            py::arg("sigma_g_mapping") = "auto", py::arg("tolerance") = 1e-6)
       .def("__call__", [](const PyModel& self, py::handle theta_i, py::handle theta_s, py::handle phi_s) {
-             return over_angles(theta_i, theta_s, phi_s, [&](const libbrdf::ScatterAngles* a, std::size_t count, double* out) {
-               libbrdf::evaluate_batch(self.model, a, count, out);
-             });
+             const auto a = broadcast({{theta_i, "theta_i"}, {theta_s, "theta_s"}, {phi_s, "phi_s"}});
+             DoubleArray out(shape_of(a[0]));
+             {
+               py::gil_scoped_release release;
+               libbrdf::evaluate_degrees_batch(self.model, a[0].data(), a[1].data(), a[2].data(),
+                                               static_cast<std::size_t>(a[0].size()), out.mutable_data());
+             }
+             return result(std::move(out));
            }, py::arg("theta_i"), py::arg("theta_s"), py::arg("phi_s"),
            "Values at angles in degrees (theta from the normal, phi_i = 0, in-plane forward scatter phi_s = 180), "
            "broadcast like numpy; the same values as `brdf eval`. Polar angles must be in [0, 90).")

@@ -31,14 +31,34 @@ void for_each_chunk(std::size_t count, const Body& body) {
   });
 }
 
-void validate_angles(const ScatterAngles* angles, std::size_t count) {
+// Geometries are derived and evaluated in blocks of this many queries: stack buffers that stay in
+// the L1/L2 cache (Model::evaluate_many works in blocks of the same size).
+constexpr std::size_t kBlock = 256;
+
+// values[k] = model at angles[k] for k < count (validated), block by block.
+void evaluate_validated(const Model& model, const ScatterAngles* angles, std::size_t count, double* values) {
+  ScatterGeometry geos[kBlock];
+  for (std::size_t begin = 0; begin < count; begin += kBlock) {
+    const std::size_t n = std::min(kBlock, count - begin);
+    make_scatter_geometries(angles + begin, n, geos);
+    model.evaluate_many(geos, n, values + begin);
+  }
+}
+
+bool query_valid(const ScatterAngles& a) {
+  return polar_angle_valid(a.theta_i) && polar_angle_valid(a.theta_s) && std::isfinite(a.phi_s);
+}
+
+// Throws InvalidQuery (index first_index + k) at the first bad query.
+void validate_angles(const ScatterAngles* angles, std::size_t count, std::size_t first_index = 0) {
   for (std::size_t k = 0; k < count; ++k) {
+    if (query_valid(angles[k])) continue;  // the common case, inline
     try {
       require_polar_angle("theta_i", angles[k].theta_i);
       require_polar_angle("theta_s", angles[k].theta_s);
       require_finite("phi_s", angles[k].phi_s);
     } catch (const InvalidArgument& e) {
-      throw InvalidQuery(e, k);
+      throw InvalidQuery(e, first_index + k);
     }
   }
 }
@@ -54,10 +74,23 @@ void evaluate_batch(const Model& model, const ScatterAngles* angles, std::size_t
   validate_angles(angles, count);
   // Per chunk: the geometry span (SIMD sines and cosines), then the model over the span (SIMD
   // angular factors, batched ASF): no per-query virtual call or scalar trigonometry.
+  for_each_chunk(count, [&](std::size_t begin, std::size_t end) { evaluate_validated(model, angles + begin, end - begin, values + begin); });
+}
+
+void evaluate_degrees_batch(const Model& model, const double* theta_i_deg, const double* theta_s_deg, const double* phi_s_deg,
+                            std::size_t count, double* values) {
+  auto angles_at = [&](std::size_t k) { return scatter_angles_from_degrees(theta_i_deg[k], theta_s_deg[k], phi_s_deg[k]); };
+  for (std::size_t k = 0; k < count; ++k) {  // every query first: nothing is written on a bad one
+    const ScatterAngles a = angles_at(k);
+    if (!query_valid(a)) validate_angles(&a, 1, k);
+  }
   for_each_chunk(count, [&](std::size_t begin, std::size_t end) {
-    std::vector<ScatterGeometry> geos(end - begin);
-    make_scatter_geometries(angles + begin, end - begin, geos.data());
-    model.evaluate_many(geos.data(), geos.size(), values + begin);
+    ScatterAngles angles[kBlock];
+    for (std::size_t block = begin; block < end; block += kBlock) {
+      const std::size_t n = std::min(kBlock, end - block);
+      for (std::size_t k = 0; k < n; ++k) angles[k] = angles_at(block + k);
+      evaluate_validated(model, angles, n, values + block);
+    }
   });
 }
 

@@ -39,7 +39,7 @@ void require_positive(const char* parameter, double value, const char* unit) {
 }
 
 void require_polar_angle(const char* parameter, double theta_rad) {
-  if (!std::isfinite(theta_rad) || theta_rad < 0.0 || theta_rad >= 0.5 * kPi)
+  if (!polar_angle_valid(theta_rad))
     throw InvalidArgument(parameter, "must be in [0, 90) degrees (got " + describe(radians_to_degrees(theta_rad)) + ")");
 }
 

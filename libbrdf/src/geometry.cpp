@@ -8,13 +8,6 @@
 
 namespace libbrdf {
 
-double degrees_to_radians(double degrees) { return degrees * (kPi / 180.0); }
-double radians_to_degrees(double radians) { return radians * (180.0 / kPi); }
-
-ScatterAngles scatter_angles_from_degrees(double theta_i_deg, double theta_s_deg, double phi_s_deg) {
-  return {degrees_to_radians(theta_i_deg), degrees_to_radians(theta_s_deg), degrees_to_radians(phi_s_deg)};
-}
-
 ScatterGeometry make_scatter_geometry(const ScatterAngles& angles) {
   require_polar_angle("theta_i", angles.theta_i);
   require_polar_angle("theta_s", angles.theta_s);

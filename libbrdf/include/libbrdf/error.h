@@ -24,6 +24,10 @@ void require_at_least(const char* parameter, double value, double lo, const char
 void require_positive(const char* parameter, double value, const char* unit = "");
 // Polar angle in radians, allowed [0, pi/2): a direction on or below the horizon is an error.
 void require_polar_angle(const char* parameter, double theta_rad);
+// What require_polar_angle accepts, as a test (inline for the batch loops).
+inline bool polar_angle_valid(double theta_rad) {
+  return theta_rad >= 0.0 && theta_rad < 0.5 * 3.14159265358979323846;  // false for NaN; +Inf fails < pi/2
+}
 // Throws unless lo <= value <= hi (finite); the message names the parameter and the range.
 void require_in_range(const char* parameter, double value, double lo, double hi, const char* unit = "");
 

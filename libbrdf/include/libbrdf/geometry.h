@@ -21,8 +21,9 @@ namespace libbrdf {
 
 inline constexpr double kPi = 3.14159265358979323846;
 
-double degrees_to_radians(double degrees);
-double radians_to_degrees(double radians);
+// Inline: the batch loops convert every query (the same arithmetic everywhere, the same bits).
+inline double degrees_to_radians(double degrees) { return degrees * (kPi / 180.0); }
+inline double radians_to_degrees(double radians) { return radians * (180.0 / kPi); }
 
 // One query: incident and scattered directions. Angles in radians.
 struct ScatterAngles {
@@ -32,7 +33,9 @@ struct ScatterAngles {
 };
 
 // Converts degrees (the CLI / file convention) to ScatterAngles in radians.
-ScatterAngles scatter_angles_from_degrees(double theta_i_deg, double theta_s_deg, double phi_s_deg);
+inline ScatterAngles scatter_angles_from_degrees(double theta_i_deg, double theta_s_deg, double phi_s_deg) {
+  return {degrees_to_radians(theta_i_deg), degrees_to_radians(theta_s_deg), degrees_to_radians(phi_s_deg)};
+}
 
 // Everything the models need about one (theta_i, theta_s, phi_s), computed once.
 struct ScatterGeometry {
