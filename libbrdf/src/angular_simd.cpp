@@ -114,6 +114,47 @@ void ScatterTrig(const ScatterAngles* angles, std::size_t count, double* trig) {
   }
 }
 
+// The derived quantities of ScatterGeometry (eqs 5, 6, 10; geometry.h) from the sines and cosines
+// trig[6 k .. 6 k + 5], lane by lane, stored into geos[k]. Every query of a process goes through
+// this one function (make_scatter_geometries, scatter_geometry_from_trig), so a query gives the same
+// bits on every path (the compiler may fuse a multiply and an add on targets with FMA).
+void GeometriesFromTrig(const double* trig, std::size_t count, ScatterGeometry* geos) {
+  const hn::ScalableTag<double> d;
+  const hn::RebindToSigned<decltype(d)> di;
+  using V = hn::Vec<decltype(d)>;
+  const std::size_t n = hn::Lanes(d);
+  alignas(64) std::int64_t in_offsets[HWY_MAX_BYTES / sizeof(double)];
+  for (std::size_t k = 0; k < n; ++k) in_offsets[k] = static_cast<std::int64_t>(6 * k);
+  const auto in = hn::Load(di, in_offsets), out = GeoOffsets(d);
+  const V one = hn::Set(d, 1.0), half = hn::Set(d, 0.5), two = hn::Set(d, 2.0);
+  auto block = [&](const double* t, ScatterGeometry* g) {
+    V field[10];
+    for (int f = 0; f < 6; ++f) field[f] = hn::GatherIndex(d, t + f, in);
+    const V ci = field[kCosI], si = field[kSinI], cs = field[kCosS], ss = field[kSinS], cp = field[kCosPhi], sp = field[kSinPhi];
+    // eq. 5, clamped to [-1, 1] only against rounding (|cos 2td| <= 1 holds for real angles).
+    field[kCos2D] = hn::Min(hn::Max(hn::Add(hn::Mul(ci, cs), hn::Mul(hn::Mul(si, ss), cp)), hn::Neg(one)), one);
+    field[kCosD] = hn::Sqrt(hn::Mul(half, hn::Add(one, field[kCos2D])));
+    // eq. 6. cos td > 0 because both directions lie strictly above the horizon (ci + cs > 0).
+    field[kCosH] = hn::Min(one, hn::Div(hn::Add(ci, cs), hn::Mul(two, field[kCosD])));
+    // eq. 10 as |Delta alpha|^2 + |Delta beta|^2 (eq. 9): >= 0 under rounding.
+    const V d_alpha = hn::Mul(ss, sp), d_beta = hn::Add(hn::Mul(ss, cp), si);
+    field[kEta2] = hn::Add(hn::Mul(d_alpha, d_alpha), hn::Mul(d_beta, d_beta));
+    double* base = reinterpret_cast<double*>(g);
+    for (int f = 0; f < 10; ++f) hn::ScatterIndex(field[f], d, base + f, out);
+  };
+  std::size_t k = 0;
+  for (; k + n <= count; k += n) block(trig + 6 * k, geos + k);
+  if (k < count) {  // the remainder through a padded block: the same vector code for every query
+    constexpr std::size_t kMaxLanes = HWY_MAX_BYTES / sizeof(double);
+    double t[6 * kMaxLanes];
+    ScatterGeometry g[kMaxLanes];
+    for (std::size_t j = 0; j < n; ++j)
+      for (int f = 0; f < 6; ++f) t[6 * j + f] = trig[6 * std::min(k + j, count - 1) + f];
+    block(t, g);
+    for (std::size_t j = 0; j < count - k; ++j) geos[k + j] = g[j];
+  }
+}
+
 void StoverQBarSpan(double eps_re, double eps_im, const ScatterGeometry* geos, std::size_t count, double* out) {
   const hn::ScalableTag<double> d;
   using V = hn::Vec<decltype(d)>;
@@ -213,12 +254,16 @@ HWY_AFTER_NAMESPACE();
 #if HWY_ONCE
 namespace libbrdf::detail {
 HWY_EXPORT(ScatterTrig);
+HWY_EXPORT(GeometriesFromTrig);
 HWY_EXPORT(StoverQBarSpan);
 HWY_EXPORT(FresnelDSpan);
 HWY_EXPORT(RenormalizationSpan);
 
 void scatter_trig(const ScatterAngles* angles, std::size_t count, double* trig) {
   HWY_DYNAMIC_DISPATCH(ScatterTrig)(angles, count, trig);
+}
+void geometries_from_trig(const double* trig, std::size_t count, ScatterGeometry* geos) {
+  HWY_DYNAMIC_DISPATCH(GeometriesFromTrig)(trig, count, geos);
 }
 void stover_q_bar_span(double eps_re, double eps_im, const ScatterGeometry* geos, std::size_t count, double* out) {
   HWY_DYNAMIC_DISPATCH(StoverQBarSpan)(eps_re, eps_im, geos, count, out);

@@ -15,6 +15,10 @@ namespace libbrdf::detail {
 // sin and cos of the three angles of each query: trig[6 k + 0..5] = cos ti, sin ti, cos ts, sin ts,
 // cos phi_s, sin phi_s. |phi_s| beyond Highway's range (39000 rad) goes through std::sin/cos.
 void scatter_trig(const ScatterAngles* angles, std::size_t count, double* trig);
+// The derived quantities of ScatterGeometry (eqs 5, 6, 10) from such sines and cosines: geos[k]
+// from trig[6 k .. 6 k + 5]. The one implementation behind make_scatter_geometries and
+// scatter_geometry_from_trig, so that every path gives a query the same bits.
+void geometries_from_trig(const double* trig, std::size_t count, ScatterGeometry* geos);
 
 // Qbar = (Q_s + Q_p)/2 of Stover (fresnel.h, stover_q) at each geometry, permittivity eps.
 void stover_q_bar_span(double eps_re, double eps_im, const ScatterGeometry* geos, std::size_t count, double* out);

@@ -9,6 +9,7 @@
 #include <random>
 #include <sstream>
 
+#include "angular_simd.h"
 #include "bake_internal.h"
 #include "libbrdf/error.h"
 #include "libbrdf/lut.h"
@@ -142,6 +143,8 @@ void row_geometries(const RowFrame& f, const RowTrig& t, int row_length, Scatter
       s = f.sin_limit;
     }
   };
+  thread_local std::vector<double> trig;  // 6 per node: the sines and cosines of its three angles
+  trig.assign(6 * static_cast<std::size_t>(row_length), 0.0);  // scalar nodes: zeros, overwritten by the caller
   for (int k = 0; k < row_length; ++k) {
     const detail::HalfDifferenceDirections n = node_directions(f, t, k);
     const double rho_i = std::sqrt(n.ix * n.ix + n.iy * n.iy), rho_s = std::sqrt(n.sx * n.sx + n.sy * n.sy);
@@ -149,14 +152,15 @@ void row_geometries(const RowFrame& f, const RowTrig& t, int row_length, Scatter
       scalar_nodes.push_back(k);
       continue;
     }
-    double ci, si, cs, ss;
-    polar(rho_i, n.iz, ci, si);
-    polar(rho_s, n.sz, cs, ss);
+    double* node = trig.data() + 6 * k;
+    polar(rho_i, n.iz, node[0], node[1]);
+    polar(rho_s, n.sz, node[2], node[3]);
     // phi_s = azimuth of s - azimuth of i.
     const double inv = 1.0 / (rho_i * rho_s);
-    geos[k] = scatter_geometry_from_trig(ci, si, cs, ss, (n.ix * n.sx + n.iy * n.sy) * inv,
-                                         (n.ix * n.sy - n.iy * n.sx) * inv);
+    node[4] = (n.ix * n.sx + n.iy * n.sy) * inv;
+    node[5] = (n.ix * n.sy - n.iy * n.sx) * inv;
   }
+  detail::geometries_from_trig(trig.data(), static_cast<std::size_t>(row_length), geos);
 }
 
 // Node values of every channel, multi-threaded, in ~100 chunks of rows so that the calling thread
