@@ -7,17 +7,31 @@ l_c = 5 um; Au polished, intermediate and rough; BK7) the add-on builds the FIT 
 Beckmann lobes for Cycles, GGX lobes for EEVEE) and the chosen engine renders it (Cycles: 1 sample,
 a sun of angle 0 makes the direct light exact at each pixel centre; EEVEE: sun angle 0.526 deg).
 Compared: each channel of every pixel inside the sphere (mask eroded by 2 pixels) with theta_i,
-theta_s <= 70 deg and every channel above 1% of the render's maximum, against the exact radiance
-f_r cos(theta_i) E C. Asserted per surface: >= 200 pixels, every pixel finite; median relative error
-<= 5%, 95th percentile <= 20% (the issue's targets) for Cycles everywhere and for EEVEE on the
-narrow lobes (polished n = 1.5 + 1i and Au, BK7, intermediate Au). EEVEE's broad lobes are measured
-and printed, not asserted: Blender 3.4's EEVEE lights a GGX Glossy BSDF by a sun through its LTC
-tables, which depart from GGX beyond roughness ~0.3 (a white Glossy on this sphere against the
-analytic GGX, median / 5th percentile of EEVEE / GGX: roughness 0.25 1.01 / 0.92, 0.45 0.91 / 0.46,
-0.6 0.81 / 0.06, 1.0 1.04 / 0.97; Cycles 1.000 / 1.000; a Diffuse BSDF 0.999 / 0.999), and broad MBK
-lobes need roughness 0.45-0.65 (alpha 0.2-0.4): no mixture of the lobes EEVEE renders faithfully
-(roughness <= 0.3, 1, Diffuse) reaches the targets there (least squares on the fit's scenes:
-median >= 12%).
+theta_s <= 70 deg and every channel above 1% of the render's maximum, against the exact radiance f_r
+cos(theta_i) E C. Asserted per surface: >= 200 pixels, every pixel finite; median relative error <=
+5%, 95th percentile <= 20% (the issue's targets) for Cycles everywhere and for EEVEE on the narrow
+lobes (polished n = 1.5 + 1i and Au, BK7, intermediate Au).
+
+EEVEE's broad lobes are measured and printed, not asserted: Blender 3.4's EEVEE lights a GGX Glossy
+BSDF by a sun through its LTC tables, which depart from GGX between roughness ~0.4 and ~0.85 (a
+white Glossy on this sphere under this sun against the analytic GGX, median / 5th percentile of
+EEVEE / GGX where GGX exceeds 1% of its maximum: roughness 0.3 1.01 / 0.97, 0.4 0.98 / 0.83, 0.45
+0.91 / 0.45, 0.5 0.78 / 0.00, 0.6 0.81 / 0.06, 0.75 0.98 / 0.49, 0.85 1.02 / 0.80, 1.0 1.04 / 0.97;
+a sun of 5 or 20 deg keeps the dip: 0.5 0.78 / 0.01, 0.79 / 0.09; Cycles 1.000 / 1.000; a Diffuse
+BSDF 0.999 / 0.999), and broad MBK lobes need roughness 0.45-0.65 (alpha 0.2-0.4).
+
+Fitting to what EEVEE renders instead of GGX does not reach the targets either
+(tools/calibrate/eevee_ggx_span.py: white GGX lobes rendered by EEVEE at roughness 0.025..1 in steps
+of 0.025 and a Diffuse, under this sun and 4 others 17-63 deg from the camera; signed least squares
+of lobes x Bernstein(N.V) colours, as the fit's, on 4 suns, measured on the 5th as here; median /
+p95 on this sun, then the worst median and p95 over the 5 suns held out): n = 1.5 + 1i sigma_s 0.2
+um 2.7% / 12%, worst 4.3% / 62%; sigma_s 1.0 um, l_c 5 um 6.5% / 18%, worst 14.5% / 94%; Au sigma_s
+0.5 um, l_c 3 um 4.4% / 14%, worst 6.6% / 36%. Fitted on all 5 suns at once, the rough n = 1.5 + 1i
+lobe still has medians 5.3-11.6% (p95 18-32%): no mixture of EEVEE's lobes with colours in N.V
+follows MBK under every sun, while the analytic GGX lobes at the same pixels do (held out, this sun:
+0.5% / 1.4%, 3.0% / 11%, 1.5% / 3.5%). With only the lobes EEVEE renders within ~10% of GGX
+(roughness <= 0.375 or >= 0.875, Diffuse): 4.4% / 19%, 12.8% / 34%, 9.8% / 26% on this sun.
+
 Usage: test_blender_fit.py [--keep DIR] [--engines CYCLES,BLENDER_EEVEE]  (ctest: one engine per test)
   (env BRDF_EXE, LIBBRDF_ROOT; EEVEE without an OpenGL context is reported and skipped)
 """
@@ -59,8 +73,9 @@ SURFACES = [
     # Chosen here: intermediate gold (the report's au-s0.15, sigma_s/lambda = 0.15 at 0.55 um).
     ("Au_s0.08", dict(model="mbk", material="Au", sigma_s=0.08, lc=2.0)),
 ]
-# EEVEE meets the targets on the narrow lobes only (its GGX departs from GGX beyond roughness
-# ~0.3: see above); elsewhere its error is printed as MEASURED.
+# EEVEE meets the targets on the narrow lobes only (its GGX departs from GGX at roughness
+# ~0.4-0.85, and no mixture of its lobes follows the broad ones: see above); elsewhere its error
+# is printed as MEASURED.
 EEVEE_ASSERTED = {"n1.5+1i_s0.02", "Au_s0.02", "BK7_s0.1", "Au_s0.08"}
 CAMERA = {"direction": [0.0, -1.0, 0.3], "ortho_scale": 2.6}
 SUN = {"direction": [0.7, -0.7, 0.3], "strength": 2.0, "color": [1.0, 0.95, 0.9], "shadow": False}
@@ -136,8 +151,8 @@ def run(tmp, engines):
         stored = fit["eevee"]["error"] if render["engine"] != "CYCLES" else fit["error"]
         table.append((render["surface"], render["engine"], int(selected.sum()), median, p95, stored["median"], stored["p95"]))
         if render["engine"] != "CYCLES" and render["surface"] not in EEVEE_ASSERTED:
-            # Known gap (reported, not asserted): EEVEE's sun-lit GGX departs from GGX beyond
-            # roughness ~0.3 (module docstring), where the broad lobes are.
+            # Known gap (reported, not asserted): EEVEE's sun-lit GGX departs from GGX at roughness
+            # ~0.4-0.85 (module docstring), where the broad lobes are.
             print(f"     MEASURED (EEVEE, not asserted) {render['name']}: median {median:.2%}, p95 {p95:.2%}")
             continue
         check(median <= MEDIAN_LIMIT and p95 <= P95_LIMIT,
