@@ -86,6 +86,9 @@ int run_export_blender(const ExportBlenderOptions& o) {
     // EEVEE: signed GGX lobes (lit one by one through Shader to RGB in the add-on): a non-negative GGX
     // mixture cannot fall off like MBK's Gaussian lobe (measured in EEVEE: median error ~45%).
     fit_request.signed_colours = true;
+    // ... and none in the roughness band where EEVEE's GGX is not GGX (blender.h).
+    fit_request.excluded_alpha_low = libbrdf::blender::kEeveeGgxBandLow * libbrdf::blender::kEeveeGgxBandLow;
+    fit_request.excluded_alpha_high = libbrdf::blender::kEeveeGgxBandHigh * libbrdf::blender::kEeveeGgxBandHigh;
     lobes_eevee = libbrdf::fit::fit_native_lobes(models, fit_request);
     e.lobes = &lobes;
     e.lobes_eevee = &lobes_eevee;

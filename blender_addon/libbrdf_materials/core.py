@@ -193,8 +193,9 @@ def fit_error_text(description):
         return ""
     lobes = len(description["fit"].get("lobes", []))
     met = "" if error.get("target_met", True) else f" (target {error['target_p95']:.0%} not met)"
-    # EEVEE's GGX departs from analytic GGX on broad lobes (the exporter's "caveat"): say so.
-    eevee = "; EEVEE: higher (broad GGX lobes)" if description["fit"].get("eevee", {}).get("caveat") else ""
+    # EEVEE gets its own lobes (GGX outside the band EEVEE does not render as GGX): its own error.
+    eevee_error = description["fit"].get("eevee", {}).get("error")
+    eevee = f"; EEVEE median {eevee_error['median']:.1%}, p95 {eevee_error['p95']:.1%}" if eevee_error else ""
     return f"{lobes} lobe{'s' if lobes != 1 else ''}: error median {error['median']:.1%}, p95 {error['p95']:.1%}{met}{eevee}"
 
 

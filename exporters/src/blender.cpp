@@ -80,10 +80,6 @@ std::string hex16(std::uint64_t value) {
   return buffer;
 }
 
-// Blender roughness range where EEVEE 3.4's sun-lit GGX was measured far from analytic GGX (see
-// blender_description's "caveat").
-constexpr double kEeveeLtcRangeLow = 0.35, kEeveeLtcRangeHigh = 0.85;
-
 // One fit's lobes and measured error (the description's "fit" / "fit.eevee").
 nlohmann::json lobes_json(const fit::NativeFit& n) {
   using nlohmann::json;
@@ -491,17 +487,7 @@ std::string blender_description_json(const BlenderExport& e) {
   if (e.lobes) fit.update(lobes_json(*e.lobes));
   if (e.lobes_eevee) {
     fit["eevee"] = lobes_json(*e.lobes_eevee);
-    // EEVEE 3.4 lights GGX by an LTC approximation that departs from analytic GGX most at Blender
-    // roughness ~0.45-0.6 (a sun on a white Glossy sphere, median / 5th-percentile ratio to GGX:
-    // 0.91 / 0.46 at 0.45, 0.81 / 0.06 at 0.6; 1.01 / 0.92 at 0.25, 1.04 / 0.97 at 1.0; README).
-    // The fit's error assumes analytic GGX, so a fit with a lobe in that range says so.
-    bool broad = false;
-    for (const fit::Lobe& l : e.lobes_eevee->lobes) broad = broad || (std::sqrt(l.roughness) >= kEeveeLtcRangeLow && std::sqrt(l.roughness) <= kEeveeLtcRangeHigh);
-    if (broad)
-      fit["eevee"]["caveat"] = "a lobe has roughness in [" + std::to_string(kEeveeLtcRangeLow).substr(0, 4) + ", " +
-                               std::to_string(kEeveeLtcRangeHigh).substr(0, 4) +
-                               "], where EEVEE 3.4's GGX departs from analytic GGX (measured down to 0.06x): the error "
-                               "stated assumes analytic GGX and understates EEVEE's";
+    fit["eevee"]["excluded_roughness"] = {kEeveeGgxBandLow, kEeveeGgxBandHigh};  // blender.h
   }
   d["fit"] = fit;
   return d.dump(2) + "\n";

@@ -420,17 +420,24 @@ double roughness_from_width(LobeShape shape, double width) {
                                  : std::clamp(8.0 / (width * width), kMinExponent, kMaxExponent);
 }
 
-double clamp_roughness(LobeShape shape, double r) {
-  return shape != LobeShape::blinn ? std::clamp(r, kMinAlpha, kMaxAlpha) : std::clamp(r, kMinExponent, kMaxExponent);
+// The roughness bounds, and the request's excluded band of alpha (a trial inside it moves to the
+// nearer edge, in log alpha).
+double clamp_roughness(const FitRequest& request, double r) {
+  if (request.shape == LobeShape::blinn) return std::clamp(r, kMinExponent, kMaxExponent);
+  r = std::clamp(r, kMinAlpha, kMaxAlpha);
+  const double low = request.excluded_alpha_low, high = request.excluded_alpha_high;
+  if (r > low && r < high) r = r * r < low * high ? low : high;
+  return r;
 }
 
 // Nelder-Mead on log roughness (J dimensions); the colours are solved exactly at every trial.
-std::vector<Lobe> refine(LobeShape shape, bool signed_colours, std::vector<Lobe> lobes, const std::vector<Pixel>& pixels,
-                         int evaluations) {
+std::vector<Lobe> refine(const FitRequest& request, std::vector<Lobe> lobes, const std::vector<Pixel>& pixels, int evaluations) {
+  const LobeShape shape = request.shape;
+  const bool signed_colours = request.signed_colours;
   const int J = static_cast<int>(lobes.size());
   auto at = [&](const std::vector<double>& logs, std::vector<Lobe>& out) {
     out = lobes;
-    for (int j = 0; j < J; ++j) out[static_cast<std::size_t>(j)].roughness = clamp_roughness(shape, std::exp(logs[static_cast<std::size_t>(j)]));
+    for (int j = 0; j < J; ++j) out[static_cast<std::size_t>(j)].roughness = clamp_roughness(request, std::exp(logs[static_cast<std::size_t>(j)]));
     return solve_colours(shape, signed_colours, out, pixels);
   };
   std::vector<std::vector<double>> simplex;
@@ -613,18 +620,19 @@ NativeFit fit_native_lobes(const std::vector<Model>& models, const FitRequest& r
     // plus one lobe (narrower or wider than its extremes, alternately).
     std::vector<Lobe> lobes(static_cast<std::size_t>(J));
     const std::vector<double> widths = initial_widths(reference, J);
-    for (int j = 0; j < J; ++j) lobes[static_cast<std::size_t>(j)].roughness = roughness_from_width(request.shape, widths[static_cast<std::size_t>(j)]);
+    for (int j = 0; j < J; ++j) lobes[static_cast<std::size_t>(j)].roughness =
+          clamp_roughness(request, roughness_from_width(request.shape, widths[static_cast<std::size_t>(j)]));
     std::vector<std::vector<Lobe>> candidates{lobes};
     if (!previous.empty()) {
       Lobe extra = J % 2 == 0 ? previous.back() : previous.front();  // sorted sharpest first
       const double factor = request.shape == LobeShape::blinn ? (J % 2 == 0 ? 0.5 : 2.0) : (J % 2 == 0 ? 1.5 : 0.7);
-      extra.roughness = clamp_roughness(request.shape, extra.roughness * factor);
+      extra.roughness = clamp_roughness(request, extra.roughness * factor);
       candidates.push_back(previous);
       candidates.back().push_back(extra);
       if (request.shape == LobeShape::blinn) {  // or the extra lobe as a Phong highlight (fit.h)
         extra.phong = !extra.phong;
         // (R.L)^p ~ (N.H)^(4p) near the peak (the angle from R to L is ~ 2 theta_h in the plane).
-        extra.roughness = clamp_roughness(request.shape, extra.phong ? 0.25 * extra.roughness : 4.0 * extra.roughness);
+        extra.roughness = clamp_roughness(request, extra.phong ? 0.25 * extra.roughness : 4.0 * extra.roughness);
         candidates.push_back(previous);
         candidates.back().push_back(extra);
       }
@@ -639,7 +647,7 @@ NativeFit fit_native_lobes(const std::vector<Model>& models, const FitRequest& r
       }
     }
     NativeFit trial = fit;
-    trial.lobes = refine(request.shape, request.signed_colours, lobes, train, 40 + 25 * J);
+    trial.lobes = refine(request, lobes, train, 40 + 25 * J);
     trial.quality = measure(trial, check);
     previous = trial.lobes;
     fit.tried.push_back(trial.quality);

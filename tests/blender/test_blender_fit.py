@@ -32,6 +32,11 @@ follows MBK under every sun, while the analytic GGX lobes at the same pixels do 
 0.5% / 1.4%, 3.0% / 11%, 1.5% / 3.5%). With only the lobes EEVEE renders within ~10% of GGX
 (roughness <= 0.375 or >= 0.875, Diffuse): 4.4% / 19%, 12.8% / 34%, 9.8% / 26% on this sun.
 
+So EEVEE's fit keeps its GGX lobes out of roughness (0.375, 0.875) (exporters/blender.h), and what it
+states is what EEVEE renders: asserted for the broad surfaces, rendered median <= 1.5 x the stated
+median + 2% (measured, rendered / stated: 14.7% / 17.2%, 13.4% / 14.4%, 25.9% / 21.7%; with lobes in
+the band the rendered medians were 5.7%, 36%, 20%, and the rough surface's stated one 10.7%).
+
 Usage: test_blender_fit.py [--keep DIR] [--engines CYCLES,BLENDER_EEVEE]  (ctest: one engine per test)
   (env BRDF_EXE, LIBBRDF_ROOT; EEVEE without an OpenGL context is reported and skipped)
 """
@@ -151,9 +156,15 @@ def run(tmp, engines):
         stored = fit["eevee"]["error"] if render["engine"] != "CYCLES" else fit["error"]
         table.append((render["surface"], render["engine"], int(selected.sum()), median, p95, stored["median"], stored["p95"]))
         if render["engine"] != "CYCLES" and render["surface"] not in EEVEE_ASSERTED:
-            # Known gap (reported, not asserted): EEVEE's sun-lit GGX departs from GGX at roughness
-            # ~0.4-0.85 (module docstring), where the broad lobes are.
-            print(f"     MEASURED (EEVEE, not asserted) {render['name']}: median {median:.2%}, p95 {p95:.2%}")
+            # Known gap (the targets are reported, not asserted): EEVEE's sun-lit GGX departs from GGX
+            # at roughness ~0.4-0.85 (module docstring), where the broad lobes would be. Its lobes stay
+            # out of that band, so the error the JSON and the panel state is the one EEVEE renders:
+            # asserted to within 1.5x + 2% (the median; with lobes in the band it was 10.7% stated,
+            # 36% rendered for the rough n = 1.5 + 1i surface).
+            print(f"     MEASURED (EEVEE, targets not asserted) {render['name']}: median {median:.2%}, p95 {p95:.2%}")
+            check(median <= 1.5 * stored["median"] + 0.02,
+                  f"{render['name']}: EEVEE renders the error its fit states: median {median:.2%} <= 1.5 x "
+                  f"{stored['median']:.2%} + 2%")
             continue
         check(median <= MEDIAN_LIMIT and p95 <= P95_LIMIT,
               f"{render['name']}: FIT vs brdf eval over {selected.sum()} pixels x 3 channels: median {median:.2%} "

@@ -105,6 +105,10 @@ struct FitRequest {
   // off like a Gaussian, which no non-negative GGX mixture can. The total may then dip below 0 far
   // from the lobe (measured: FitQuality). Default: non-negative (NNLS).
   bool signed_colours = false;
+  // GGX only: an open band (excluded_alpha_low, excluded_alpha_high) of alpha that the renderer does
+  // not render as GGX (EEVEE 3.4's LTC: Blender roughness 0.375-0.875, README); every lobe stays out
+  // of it. Default: none.
+  double excluded_alpha_low = 0.0, excluded_alpha_high = 0.0;
 };
 
 // The default --target-error of `brdf export blender --mode fit` and `brdf export povray`.
