@@ -159,8 +159,8 @@ void register_bake(CLI::App& app, ActionTable& actions) {
   add_model_options(*command, options->model);
   command->add_option("--layout", options->layout, "Table layout: rusinkiewicz (default) | merl | slice | kernel (factored ASF models: K F P x Sigma(g, c))");
   command->add_option("--kernel-angular", options->kernel_angular,
-                      "Layout kernel: closed-form (default; the angular factor P evaluated at lookup: mbk, bk, bk-modified) | "
-                      "table (P / F on the grid, what the Blender atlas holds; mbk-fg always)");
+                      "Layout kernel: closed-form (default; the angular factor P evaluated at lookup) | "
+                      "table (P / F on the grid, what the Blender atlas holds)");
   command->add_option("--resolution", options->resolution, "Nodes per axis A,B,C (slice: A,B)");
   command->add_option("--target-error", options->target_error,
                       "Smallest table whose measured max relative error is <= REL (grid grows by 1.25 per axis)");

@@ -229,6 +229,7 @@ class Bench {
     add_lut_row(ModelKind::mbk, s, LutLayout::kernel, libbrdf::default_resolution(LutLayout::kernel), KernelAngular::table);
     add_lut_row(ModelKind::mbk, s, LutLayout::kernel, {2, 2, 2}, KernelAngular::closed_form);
     add_lut_row(ModelKind::bk_modified, s, LutLayout::kernel, {2, 2, 2}, KernelAngular::closed_form);
+    add_lut_row(ModelKind::mbk_fg, s, LutLayout::kernel, {2, 2, 2}, KernelAngular::closed_form);  // G/S at lookup
     // Three-channel lookups (Lut::lookup_all: coordinates once, no acos/atan2 calls).
     add_rgb_lookup_row(s, LutLayout::rusinkiewicz, std::array<int, 3>{n, n, n});
     add_rgb_lookup_row(s, LutLayout::kernel, libbrdf::default_resolution(LutLayout::kernel), KernelAngular::table);

@@ -289,11 +289,16 @@ Lut bake_table(const BakeRequest& r, const std::vector<Model>& models, const std
   for (const ModelParameters& p : r.channels) lut.wavelengths_um.push_back(p.wavelength_um);
   if (lut.layout == LutLayout::kernel) {
     lut.kernel_model = r.model;
-    lut.kernel_angular = r.model == ModelKind::mbk_fg ? KernelAngular::table : r.kernel_angular;
+    lut.kernel_angular = r.kernel_angular;
+    const bool fg_closed = r.model == ModelKind::mbk_fg && r.kernel_angular == KernelAngular::closed_form;
     for (const Model& m : models) {
       lut.kernel_sigma_over_lambda.push_back(m.surface().sigma_over_lambda());
       lut.kernel_lc_over_lambda.push_back(m.surface().lc_over_lambda());
       lut.kernel_index.push_back(*m.parameters().index);  // every ASF model needs n (validated)
+      if (fg_closed) {  // what G/S needs at lookup
+        lut.kernel_sigma_g.push_back(m.sigma_g());
+        lut.kernel_g_term.push_back(m.parameters().g_term);
+      }
     }
   }
   if (lut.layout == LutLayout::slice) {

@@ -9,6 +9,7 @@
 #include "libbrdf/error.h"
 #include "libbrdf/beckmann_kirchhoff.h"
 #include "libbrdf/kernel_table.h"
+#include "libbrdf/microfacet.h"
 #include "angular_simd.h"
 #include "lut_internal.h"
 
@@ -326,7 +327,8 @@ void detail::lookup_all_span(const Lut& lut, const ScatterGeometry* geos, std::s
 }
 
 bool detail::kernel_angular_all_closed(ModelKind model, KernelAngular angular) {
-  return model == ModelKind::bk || model == ModelKind::bk_modified || (model == ModelKind::mbk && angular == KernelAngular::closed_form);
+  return model == ModelKind::bk || model == ModelKind::bk_modified ||
+         ((model == ModelKind::mbk || model == ModelKind::mbk_fg) && angular == KernelAngular::closed_form);
 }
 
 void detail::kernel_closed_form_span(const Lut& lut, int channel, const ScatterGeometry* geos, std::size_t count, double* out) {
@@ -340,6 +342,9 @@ void detail::kernel_closed_form_span(const Lut& lut, int channel, const ScatterG
     for (std::size_t k = 0; k < count; ++k) out[k] *= bk_geometric_factor_eq26(geos[k]);
   else if (lut.kernel_model == ModelKind::bk_modified)
     for (std::size_t k = 0; k < count; ++k) out[k] *= inverse_s_term_eq28(geos[k]);
+  else if (lut.kernel_model == ModelKind::mbk_fg && lut.kernel_angular == KernelAngular::closed_form)
+    for (std::size_t k = 0; k < count; ++k)  // eq. 31's G / S (Model::combine)
+      out[k] *= geometric_term(lut.kernel_g_term[channel], geos[k], lut.kernel_sigma_g[channel]) / s_term(geos[k]);
 }
 
 double Lut::lookup(int channel, const ScatterGeometry& geo) const {

@@ -24,7 +24,8 @@ struct TableAngles {
 void table_angles(const ScatterGeometry* geos, std::size_t count, TableAngles* out);
 // Kernel layout: the closed-form part of the angular factor P of a channel (lut.h), evaluated at
 // lookup; the table holds P~ = P / K / that. F(theta_d) times F_bk^2 of eq. 26 (bk), 1/S of eq. 28
-// (bk-modified), 1 (mbk-fg, mbk with the table form); Stover's Qbar for mbk in the closed form.
+// (bk-modified), G/S (mbk-fg in the closed form), 1 (mbk-fg and mbk with the table form); Stover's
+// Qbar for mbk in the closed form.
 // Over a span of geometries (SIMD Fresnel and Qbar): out[k] for geos[k].
 void kernel_closed_form_span(const Lut& lut, int channel, const ScatterGeometry* geos, std::size_t count, double* out);
 // True when the closed-form part is all of P (the table holds 1).

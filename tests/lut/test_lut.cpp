@@ -17,6 +17,7 @@
 #include "libbrdf/error.h"
 #include "libbrdf/lut.h"
 #include "libbrdf/materials.h"
+#include "lut_internal.h"
 
 namespace {
 
@@ -403,6 +404,71 @@ TEST(LutFiles, MerlRoundTripThroughTheLibraryAndItsSidecar) {
   one.resolution = std::array<int, 3>{8, 8, 8};
   EXPECT_THROW(write_merl_binary(bake(one), dir.file("x.binary")), LutFileError);
   EXPECT_FALSE(fs::exists(dir.file("x.binary")));
+}
+
+// Kernel layout, mbk-fg: the closed form evaluates F(theta_d) G/S at lookup (lut.h) with the
+// channel's sigma_g and G term from the file; checked against the model at random geometries (a
+// wrong or missing G, S or sigma_g shows as a large error: G/S varies by orders of magnitude).
+TEST(KernelLayout, MbkFgClosedFormAgreesWithTheModelForEveryGTerm) {
+  TempDir dir;
+  for (GeometricTerm term : {GeometricTerm::smith, GeometricTerm::vgroove, GeometricTerm::none}) {
+    BakeRequest r = request_for(ModelKind::mbk_fg, 0.02, 2.0, {0.65, 0.45});
+    for (ModelParameters& p : r.channels) p.g_term = term;
+    r.layout = LutLayout::kernel;
+    r.error_samples = 2000;
+    const Lut baked = bake(r);
+    EXPECT_EQ(baked.kernel_angular, KernelAngular::closed_form);
+    EXPECT_EQ(baked.shape, (std::array<int, 3>{2, 2, 2}));
+    const std::string path = dir.file("fg.exr");
+    write_lut_exr(baked, path);
+    const Lut lut = read_lut_exr(path);
+    const std::vector<Model> models = models_of(r);
+    ASSERT_EQ(lut.kernel_sigma_g.size(), 2u);
+    ASSERT_EQ(lut.kernel_g_term.size(), 2u);
+    for (int c = 0; c < 2; ++c) {
+      EXPECT_EQ(lut.kernel_sigma_g[c], models[c].sigma_g());
+      EXPECT_EQ(lut.kernel_g_term[c], term);
+    }
+    for (const ScatterAngles& a : random_geometries(300, 85.0, 3)) {
+      const ScatterGeometry geo = make_scatter_geometry(a);
+      for (int c = 0; c < 2; ++c) {
+        const double direct = models[c].evaluate(geo);
+        EXPECT_NEAR(lut.lookup(c, geo), direct, 1e-4 * direct) << "g_term " << int(term);
+        EXPECT_EQ(lut.lookup(c, geo), baked.lookup(c, geo));
+      }
+    }
+  }
+}
+
+TEST(KernelLayout, MbkFgClosedFormHeaderNeedsSigmaGAndAGTermPerChannel) {
+  BakeRequest r = request_for(ModelKind::mbk_fg, 0.3, 3.0, {0.65, 0.55, 0.45});
+  r.layout = LutLayout::kernel;
+  r.error_samples = 1000;
+  const std::map<std::string, std::string> good = detail::lut_metadata(bake(r));
+  Lut lut;
+  detail::restore_from_metadata(lut, good, "good.exr");
+  EXPECT_EQ(lut.kernel_g_term, std::vector<GeometricTerm>(3, GeometricTerm::smith));
+  for (const auto& [key, value] : std::vector<std::pair<std::string, std::string>>{
+           {"kernel_g_term", "smith,smith,ggx"}, {"kernel_g_term", "smith,smith"}, {"kernel_sigma_g", "0.1,0.1"},
+           {"kernel_sigma_g", "0.1,-1,0.1"}, {"kernel_sigma_g", "0.1,1e-9,0.1"}, {"kernel_angular", "closed"}}) {
+    std::map<std::string, std::string> bad = good;
+    bad[key] = value;
+    EXPECT_THROW(detail::restore_from_metadata(lut, bad, "bad.exr"), LutFileError) << key << " = " << value;
+  }
+  for (const char* key : {"kernel_sigma_g", "kernel_g_term"}) {
+    std::map<std::string, std::string> missing = good;
+    missing.erase(key);
+    EXPECT_THROW(detail::restore_from_metadata(lut, missing, "bad.exr"), LutFileError) << key;
+  }
+  // The table form (G/S on the grid, and files without kernel_angular) needs neither.
+  r.kernel_angular = KernelAngular::table;
+  r.resolution = std::array<int, 3>{8, 8, 8};
+  std::map<std::string, std::string> table = detail::lut_metadata(bake(r));
+  EXPECT_EQ(table.count("kernel_sigma_g"), 0u);
+  table.erase("kernel_angular");
+  detail::restore_from_metadata(lut, table, "old.exr");
+  EXPECT_EQ(lut.kernel_angular, KernelAngular::table);
+  EXPECT_TRUE(lut.kernel_sigma_g.empty());
 }
 
 // Every failure is a LutFileError with a one-line message that names the file.

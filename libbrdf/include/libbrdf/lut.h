@@ -56,15 +56,23 @@
 //                P table holds polished surfaces as well as rough ones.
 //                Lut::kernel_angular (header attribute libbrdf:kernel_angular, absent = table)
 //                says which part of P is closed form: `table` as above; `closed-form` (the
-//                default of `brdf bake --layout kernel` for mbk, bk and bk-modified) evaluates all
-//                of P at lookup (mbk: Stover's Qbar from kernel_index; bk, bk-modified as above)
-//                and its table holds P~ = 1 on 2^3 nodes. Why: Qbar is not smooth everywhere. For
+//                default of `brdf bake --layout kernel`) evaluates all of P at lookup (mbk:
+//                Stover's Qbar from kernel_index; bk, bk-modified as above; mbk-fg: F(theta_d) G/S,
+//                S of eq. 22 and the G of microfacet.h with the channel's sigma_g and G term,
+//                Lut::kernel_sigma_g and kernel_g_term, header attributes libbrdf:kernel_sigma_g and
+//                libbrdf:kernel_g_term) and its table holds P~ = 1 on 2^3 nodes. Why: Qbar is not smooth everywhere. For
 //                n < 1 (k = 0) it and F(theta_d) have square-root kinks at the critical angle
 //                (measured: n = 0.5 tabulated at 54^3, max relative error 0.78, at theta_d = 30
 //                deg), and for metals with large kappa at short l_c it is steep at grazing (Al,
 //                sigma_s = 0.05 um, l_c = 1 um: 4.5e-3); closed form, only K (1D) and Sigma are
-//                interpolated. Renderers that cannot evaluate Qbar (the Blender node graph) bake
-//                the `table` form.
+//                interpolated. mbk-fg's G/S is steep near grazing: tabulated at 54^3 it erred by
+//                5.7e-3 on a polished surface (sigma_s = 0.02 um, l_c = 2 um, n = 1.5 + 1i, at
+//                forward-specular geometries with both polar angles 80-85 deg, where Smith's G
+//                falls to 0.96 at 85 deg for sigma_g = 0.073) and by 2e-2-1e-1 with the V-groove G's
+//                kink or without G (1/S alone); closed form: <= 7.5e-5. Renderers that cannot
+//                evaluate Qbar or Smith's G (the Blender node graph) bake the `table` form.
+//                Readers before mbk-fg's closed form refuse its files (kernel_angular 'closed-form'
+//                was not allowed for mbk-fg).
 // Nodes whose incident or scattered direction lies on or below the horizon (theta >= 90 deg, e.g.
 // theta_d = 90 deg, or theta_h + theta_d > 90 deg in the incidence plane) hold the model at those
 // directions with the polar angles limited to kHorizonThetaLimitDeg (azimuths unchanged); for the
@@ -153,6 +161,8 @@ class Lut {
   std::vector<ComplexIndex> kernel_index;   // kernel layout only: n + i kappa per channel (F(theta_d))
   ModelKind kernel_model = ModelKind::mbk;  // kernel layout only: bk and bk-modified have closed-form P~
   KernelAngular kernel_angular = KernelAngular::table;  // kernel layout only: what the P table holds
+  std::vector<double> kernel_sigma_g;        // kernel layout, mbk-fg closed form: sigma_g per channel (Model::sigma_g)
+  std::vector<GeometricTerm> kernel_g_term;  // kernel layout, mbk-fg closed form: G per channel
   LutError error;                           // measured at bake time, stored in the file
   std::map<std::string, std::string> attributes;  // model name, parameters, version, ... (file metadata)
 
@@ -183,8 +193,8 @@ struct BakeRequest {
   ModelKind model = ModelKind::mbk;           // must be a BRDF (is_brdf)
   std::vector<ModelParameters> channels;      // one per wavelength
   LutLayout layout = LutLayout::rusinkiewicz;
-  // Kernel layout: closed_form where the model has one for all of P (mbk, bk, bk-modified; mbk-fg
-  // stays table), else table. The default table shape of closed_form is 2^3 (P~ = 1).
+  // Kernel layout: closed_form (all of P evaluated at lookup, every ASF model) or table. The default
+  // table shape of closed_form is 2^3 (P~ = 1).
   KernelAngular kernel_angular = KernelAngular::closed_form;
   std::optional<std::array<int, 3>> resolution;  // nodes per axis; absent = default or target_error
   std::optional<double> target_error;         // smallest table whose measured max relative error meets it
