@@ -60,12 +60,12 @@
 //                Stover's Qbar from kernel_index; bk, bk-modified as above; mbk-fg: F(theta_d) G/S,
 //                S of eq. 22 and the G of microfacet.h with the channel's sigma_g and G term,
 //                Lut::kernel_sigma_g and kernel_g_term, header attributes libbrdf:kernel_sigma_g and
-//                libbrdf:kernel_g_term) and its table holds P~ = 1 on 2^3 nodes. Why: Qbar is not smooth everywhere. For
-//                n < 1 (k = 0) it and F(theta_d) have square-root kinks at the critical angle
-//                (measured: n = 0.5 tabulated at 54^3, max relative error 0.78, at theta_d = 30
-//                deg), and for metals with large kappa at short l_c it is steep at grazing (Al,
-//                sigma_s = 0.05 um, l_c = 1 um: 4.5e-3); closed form, only K (1D) and Sigma are
-//                interpolated. mbk-fg's G/S is steep near grazing: tabulated at 54^3 it erred by
+//                libbrdf:kernel_g_term) and its table holds P~ = 1 on 2^3 nodes. Why: Qbar is not
+//                smooth everywhere. For n < 1 (k = 0) it and F(theta_d) have square-root kinks at
+//                the critical angle (measured: n = 0.5 tabulated at 54^3, max relative error 0.78,
+//                at theta_d = 30 deg), and for metals with large kappa at short l_c it is steep at
+//                grazing (Al, sigma_s = 0.05 um, l_c = 1 um: 4.5e-3); closed form, only K (1D) and
+//                Sigma are interpolated. mbk-fg's G/S is steep near grazing: tabulated at 54^3 it erred by
 //                5.7e-3 on a polished surface (sigma_s = 0.02 um, l_c = 2 um, n = 1.5 + 1i, at
 //                forward-specular geometries with both polar angles 80-85 deg, where Smith's G
 //                falls to 0.96 at 85 deg for sigma_g = 0.073) and by 2e-2-1e-1 with the V-groove G's
