@@ -22,11 +22,7 @@ import tempfile
 
 import numpy as np
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.environ.get("LIBBRDF_ROOT", os.path.normpath(os.path.join(HERE, "..", "..")))
-sys.path.insert(0, HERE)
-sys.path.insert(0, os.path.join(ROOT, "blender_addon"))
-sys.path.insert(0, os.path.dirname(HERE))
+from blender_test_env import BRDF, HERE, ROOT  # noqa: F401 (sys.path first)
 
 import checks  # noqa: E402
 import graph_interpreter  # noqa: E402
@@ -34,7 +30,6 @@ import render_check  # noqa: E402
 from checks import check  # noqa: E402
 from libbrdf_materials import core, nodegraph  # noqa: E402
 
-BRDF = os.environ.get("BRDF_EXE", "brdf")
 
 
 def random_geometries(rng, count, max_theta_deg):
