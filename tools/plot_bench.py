@@ -29,13 +29,51 @@ SHORT_VARIANT = {"auto regime tol 1e-6 (default)": "auto 1e-6", "auto regime tol
 
 
 def label(row):
+    shape = row["shape"].replace("x", "\u00d7")
+    if row["layout"] == "kernel":  # the factored layout: its angular factor closed-form or tabulated
+        form = "closed form" if "closed-form" in row["variant"] else f"P~ {shape}"
+        return f"{row['model']} kernel {form}" + (" (3 ch.)" if row["kind"] == "lut3" else "")
+    if row["kind"] == "lut3":
+        return f"{row['model']} {row['layout'][:5]}. {shape} (3 ch.)"
     if row["kind"] == "lut":
-        shape = row["shape"].replace("x", "\u00d7")
         if row["model"] != "mbk":
             return f"{row['model']} table"
         return "mbk MERL" if row["layout"] == "merl" else f"mbk {row['layout'][:5]}. {shape}"
     variant = SHORT_VARIANT.get(row["variant"], row["variant"])
     return f"{row['model']} {variant}".strip()
+
+
+# Label offsets (points) tried in turn: the first whose box overlaps no label placed before it wins
+# (else the least overlapping), so that crowded clusters stay readable.
+OFFSETS = [(4, 3), (4, -10), (4, 11), (4, -18), (4, 19), (-6, 3), (-6, -10), (4, -26), (4, 27), (-6, 11), (-6, -18)]
+
+
+def overlap(a, b):
+    return max(0.0, min(a.x1, b.x1) - max(a.x0, b.x0)) * max(0.0, min(a.y1, b.y1) - max(a.y0, b.y0))
+
+
+def place_labels(fig, labels):
+    """labels: (axes, text, (x, y)) in data coordinates; annotates each at its least crowded offset."""
+    renderer = fig.canvas.get_renderer()
+    placed = []
+    for ax, text, xy in labels:
+        best = None
+        # Near the right edge the text goes to the left of its point first (it would be clipped).
+        right = ax.transAxes.inverted().transform(ax.transData.transform(xy))[0] > 0.72
+        for dx, dy in ([(-abs(dx), dy) for dx, dy in OFFSETS] if right else OFFSETS):
+            note = ax.annotate(text, xy, textcoords="offset points", xytext=(dx, dy), fontsize=6.5, color="#333333",
+                               ha="left" if dx > 0 else "right")
+            box = note.get_window_extent(renderer)
+            cost = sum(overlap(box, other) for other in placed)
+            if best is None or cost < best[0]:
+                if best is not None:
+                    best[1].remove()
+                best = (cost, note, box)
+            else:
+                note.remove()
+            if cost == 0.0:
+                break
+        placed.append(best[2])
 
 
 def main():
@@ -47,6 +85,7 @@ def main():
         sys.exit("plot_bench: no rows in " + sys.argv[1])
     surfaces = list(dict.fromkeys(r["surface"] for r in rows))
     fig, axes = plt.subplots(1, len(surfaces), figsize=(6.4 * len(surfaces), 7.0), sharey=True, squeeze=False)
+    labels = []
     for ax, surface in zip(axes[0], surfaces):
         exact = []
         for row in (r for r in rows if r["surface"] == surface):
@@ -66,7 +105,7 @@ def main():
             ax.plot([x, x], [y_rms, y_max], color=color, lw=0.8, alpha=0.6)
             ax.scatter([x], [y_max], color=color, marker=marker, s=36, zorder=3, edgecolor="black", linewidth=0.4)
             ax.scatter([x], [y_rms], facecolor="none", edgecolor=color, marker=marker, s=18, zorder=3)
-            ax.annotate(text, (x, y_max), textcoords="offset points", xytext=(4, 3), fontsize=6.5, color="#333333")
+            labels.append((ax, text, (x, y_max)))
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_ylim(EXACT / 30, TOP * 4)
@@ -83,10 +122,11 @@ def main():
     handles = [plt.Line2D([], [], color=c, marker="o", ls="", label=k.replace("_", " ")) for k, c in COLORS.items()]
     handles += [plt.Line2D([], [], color=COLORS["lut"], marker=m, ls="", label=f"table: {k}") for k, m in LUT_MARKERS.items()]
     fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=8, frameon=False)
-    tables = sorted({r["shape"] for r in rows if r["kind"] == "lut" and r["model"] != "mbk"})
+    tables = sorted({r["shape"] for r in rows if r["kind"] == "lut" and r["model"] != "mbk" and r["layout"] != "kernel"})
     fig.suptitle("brdf bench: speed against error (dashed: 1e-2 and 1e-3). \"<model> table\": rusinkiewicz "
                  + ", ".join(tables) + " of that model's default evaluation", fontsize=10)
     fig.tight_layout(rect=(0, 0.05, 1, 0.96))
+    place_labels(fig, labels)  # after the layout: the boxes are measured where they will be drawn
     tmp = sys.argv[2] + ".tmp.png"
     fig.savefig(tmp, dpi=130)
     os.replace(tmp, sys.argv[2])
