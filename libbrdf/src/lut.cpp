@@ -256,23 +256,21 @@ void kernel_angular_factors(const Lut& lut, const detail::TableAngles& a, int fi
 void kernel_span(const Lut& lut, const ScatterGeometry* geos, const detail::TableAngles* angles, std::size_t count,
                  int first_channel, int channel_count, double* values) {
   constexpr std::size_t kBlock = 64;
-  double g[kBlock], c[kBlock], asf[kBlock], closed[kBlock];
+  double asf[kBlock], closed[kBlock];
+  // The closed form's table holds P~ = 1 at every node (checked when read: check_lut_consistency):
+  // nothing to interpolate.
+  const bool ones = lut.kernel_angular == KernelAngular::closed_form;
   for (std::size_t begin = 0; begin < count; begin += kBlock) {
     const std::size_t n = std::min(kBlock, count - begin);
-    for (std::size_t k = 0; k < n; ++k)
-      kernel_angular_factors(lut, angles[begin + k], first_channel, channel_count, values + (begin + k) * channel_count);
+    if (ones) std::fill(values + begin * channel_count, values + (begin + n) * channel_count, 1.0);
+    else
+      for (std::size_t k = 0; k < n; ++k)
+        kernel_angular_factors(lut, angles[begin + k], first_channel, channel_count, values + (begin + k) * channel_count);
     for (int ch = 0; ch < channel_count; ++ch) {
       const int channel = first_channel + ch;
       // The surface in units of the wavelength: what g (eq. 12) and c depend on.
       const Surface surface{lut.kernel_sigma_over_lambda[channel], lut.kernel_lc_over_lambda[channel], 1.0};
-      double prefactor = 0.0;
-      for (std::size_t k = 0; k < n; ++k) {
-        const AsfArguments args = asf_arguments(surface, geos[begin + k]);
-        g[k] = args.g;
-        c[k] = args.c;
-        prefactor = args.prefactor;
-      }
-      asf_auto_batch(g, c, n, prefactor, kKernelTableCertifiedError, SeriesOptions{}, asf);
+      asf_auto_geometries(surface, geos + begin, n, kKernelTableCertifiedError, SeriesOptions{}, asf);
       detail::kernel_closed_form_span(lut, channel, geos + begin, n, closed);
       for (std::size_t k = 0; k < n; ++k) {
         double& out = values[(begin + k) * channel_count + ch];

@@ -132,6 +132,11 @@ void check_lut_consistency(const Lut& lut, const std::string& label) {
     if (!(std::isfinite(lut.values[i]) && lut.values[i] >= 0.0f))
       fail("table value " + number_text(lut.values[i]) + " at channel " + std::to_string(i / std::max<std::size_t>(1, lut.nodes_per_channel())) +
            ", node " + std::to_string(i % std::max<std::size_t>(1, lut.nodes_per_channel())) + " is not a finite number >= 0");
+  // The kernel layout's closed form evaluates all of P at lookup: its table holds P~ = 1 (lut.h),
+  // which lookups do not interpolate.
+  if (lut.layout == LutLayout::kernel && lut.kernel_angular == KernelAngular::closed_form)
+    for (std::size_t i = 0; i < lut.values.size(); ++i)
+      if (lut.values[i] != 1.0f) fail("a closed-form kernel table holds 1 at every node (got " + number_text(lut.values[i]) + ")");
   for (const auto* side : {&lut.specular_reflectance, &lut.renormalization}) {
     if (static_cast<int>(side->size()) != lut.channels()) fail("R_spec/K tables missing for some channels");
     for (const auto& table : *side) {

@@ -266,6 +266,22 @@ AsfArguments asf_arguments(const Surface& surface, const ScatterGeometry& geo) {
   return args;
 }
 
+void asf_auto_geometries(const Surface& surface, const ScatterGeometry* geos, std::size_t count, double tolerance,
+                         const SeriesOptions& options, double* asf_out) {
+  constexpr std::size_t kBlock = 256;
+  double g[kBlock], c[kBlock];
+  const double prefactor = asf_arguments(surface, ScatterGeometry{}).prefactor;  // pi (l_c/lambda)^2, eq. 11
+  for (std::size_t begin = 0; begin < count; begin += kBlock) {
+    const std::size_t n = std::min(kBlock, count - begin);
+    for (std::size_t k = 0; k < n; ++k) {
+      const AsfArguments args = asf_arguments(surface, geos[begin + k]);
+      g[k] = args.g;
+      c[k] = args.c;
+    }
+    asf_auto_batch(g, c, n, prefactor, tolerance, options, asf_out + begin);
+  }
+}
+
 double asf(const Surface& surface, const ScatterGeometry& geo, const SeriesOptions& options) {
   const AsfArguments args = asf_arguments(surface, geo);
   return args.prefactor * mbk_series_sum(args.g, args.c, options);

@@ -221,8 +221,6 @@ void Model::evaluate_many(const ScatterGeometry* geos, std::size_t count, double
   const double eps_re = permittivity_.real(), eps_im = permittivity_.imag();
   constexpr std::size_t kBlock = 256;
   double k[kBlock], q_bar[kBlock], fresnel_d[kBlock], a[kBlock];
-  double g[kBlock], c[kBlock];
-  const double prefactor = asf_arguments(surface_, ScatterGeometry{}).prefactor;  // pi (l_c/lambda)^2, eq. 11
   for (std::size_t begin = 0; begin < count; begin += kBlock) {
     const std::size_t n = std::min(kBlock, count - begin);
     const ScatterGeometry* span = geos + begin;
@@ -234,14 +232,7 @@ void Model::evaluate_many(const ScatterGeometry* geos, std::size_t count, double
     if (needs.fresnel_d) detail::fresnel_d_span(eps_re, eps_im, span, n, fresnel_d);
     // The ASF of the span in SIMD lanes (asf_auto_batch: asf_auto's method per query, each lane
     // alone, so a value depends on its own geometry only: batch.h's scalar and array calls agree).
-    if (needs.asf && !asf) {
-      for (std::size_t j = 0; j < n; ++j) {
-        const AsfArguments args = asf_arguments(surface_, span[j]);
-        g[j] = args.g;
-        c[j] = args.c;
-      }
-      asf_auto_batch(g, c, n, prefactor, params_.tolerance, params_.series, a);
-    }
+    if (needs.asf && !asf) asf_auto_geometries(surface_, span, n, params_.tolerance, params_.series, a);
     for (std::size_t j = 0; j < n; ++j) {
       Factors f;
       if (needs.k) f.k = k[j];

@@ -471,6 +471,22 @@ TEST(KernelLayout, MbkFgClosedFormHeaderNeedsSigmaGAndAGTermPerChannel) {
   EXPECT_TRUE(lut.kernel_sigma_g.empty());
 }
 
+// The closed form's table holds P~ = 1 at every node and lookups do not read it (lut.h): a table
+// that holds anything else is refused when written (and read), not silently ignored.
+TEST(KernelLayout, ClosedFormTableMustHoldOnes) {
+  TempDir dir;
+  BakeRequest r = request_for(ModelKind::mbk, 0.2, 2.0, {0.65});
+  r.layout = LutLayout::kernel;
+  r.error_samples = 1000;
+  Lut lut = bake(r);
+  ASSERT_EQ(lut.kernel_angular, KernelAngular::closed_form);
+  for (float v : lut.values) ASSERT_EQ(v, 1.0f);
+  write_lut_exr(lut, dir.file("ones.exr"));
+  lut.values[3] = 0.5f;
+  EXPECT_THROW(write_lut_exr(lut, dir.file("bad.exr")), LutFileError);
+  EXPECT_FALSE(fs::exists(dir.file("bad.exr")));
+}
+
 // Every failure is a LutFileError with a one-line message that names the file.
 void expect_file_error(const std::function<void()>& read, const std::string& path) {
   try {

@@ -60,8 +60,8 @@
 //                Stover's Qbar from kernel_index; bk, bk-modified as above; mbk-fg: F(theta_d) G/S,
 //                S of eq. 22 and the G of microfacet.h with the channel's sigma_g and G term,
 //                Lut::kernel_sigma_g and kernel_g_term, header attributes libbrdf:kernel_sigma_g and
-//                libbrdf:kernel_g_term) and its table holds P~ = 1 on 2^3 nodes. Why: Qbar is not
-//                smooth everywhere. For n < 1 (k = 0) it and F(theta_d) have square-root kinks at
+//                libbrdf:kernel_g_term) and its table holds P~ = 1 on 2^3 nodes (checked when read
+//                or written; lookups do not interpolate it). Why: Qbar is not smooth everywhere. For n < 1 (k = 0) it and F(theta_d) have square-root kinks at
 //                the critical angle (measured: n = 0.5 tabulated at 54^3, max relative error 0.78,
 //                at theta_d = 30 deg), and for metals with large kappa at short l_c it is steep at
 //                grazing (Al, sigma_s = 0.05 um, l_c = 1 um: 4.5e-3); closed form, only K (1D) and

@@ -99,6 +99,10 @@ AsfRegime asf_regime(const AsfArguments& args, double tolerance);
 // bit for bit, whatever else is in the batch (count 1 included). asf_out may not alias g or c.
 void asf_auto_batch(const double* g, const double* c, std::size_t count, double prefactor, double tolerance,
                     const SeriesOptions& options, double* asf_out);
+// The same at a span of geometries of one surface: asf_out[k] = asf_auto(asf_arguments(surface,
+// geos[k]), tolerance, nullptr, options), g and c derived here block by block.
+void asf_auto_geometries(const Surface& surface, const ScatterGeometry* geos, std::size_t count, double tolerance,
+                         const SeriesOptions& options, double* asf_out);
 
 // Specular spike reflectance (the m = 0 term, a delta): R_spec(ti) = F(ti) exp(-g(ti, ti)).
 // Declared in models.h with the other Fresnel-weighted quantities.
