@@ -59,7 +59,7 @@ def wrapper_source(source):
     images = re.findall(r"^\s*string (\w+) = (\"[^\"]*\"),$", tail, re.M)
     check(len(images) >= 1, f"the exported shader's image parameters: {[name for name, _ in images]}")
     parameters = "".join(f"    string {name} = {path},\n" for name, path in images)
-    return images, head + f"""
+    return head + f"""
 shader libbrdf_real_check(
     float PhiDeg = 180.0,
 {parameters}    output color Value = 0,
@@ -99,7 +99,7 @@ def check_material(request, max_error, tmp):
     compiled = run([tool("oslc"), "-I" + os.path.join(PREFIX, "shaders"), "-o", os.path.join(work, "exported.oso"), osl_path], work)
     if not check(compiled.returncode == 0, f"{request.name}: oslc compiles the exported shader unchanged ({compiled.stderr.strip()[-300:]})"):
         return
-    _, wrapper = wrapper_source(source)
+    wrapper = wrapper_source(source)
     with open(os.path.join(work, "libbrdf_real_check.osl"), "w", encoding="utf-8") as f:
         f.write(wrapper)
     compiled = run([tool("oslc"), "-I" + os.path.join(PREFIX, "shaders"), "libbrdf_real_check.osl"], work)
