@@ -1,5 +1,6 @@
-// The universal kernel table of Sigma(g, c) (kernel_table.h): built from the reference series'
-// moments, looked up by bicubic Hermite interpolation of ln Sigma.
+// The universal kernel table of Sigma(g, c) (kernel_table.h): computed from the reference series'
+// moments (at build time, into the library: kernel_table_file.h), looked up by bicubic Hermite
+// interpolation of ln Sigma.
 #include "libbrdf/kernel_table.h"
 
 #include <tbb/blocked_range.h>
@@ -8,8 +9,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
+#include <stdexcept>
 
 #include "asf_lanes.h"
+#include "kernel_table_file.h"
 #include "poisson.h"
 
 namespace libbrdf {
@@ -35,6 +39,30 @@ void node_values(double x, double z, double* out) {
 
 }  // namespace
 
+namespace detail {
+KernelGrid kernel_grid() {
+  KernelGrid grid;
+  grid.x_min = std::log(kKernelGMin);
+  grid.dx = 1.0 / kKernelNodesPerUnitX;
+  grid.dz = 1.0 / kKernelNodesPerUnitZ;
+  // One cell beyond each end so that every in-domain query has a full cell.
+  grid.nx = static_cast<int>(std::ceil((std::log(kKernelGMax) - grid.x_min) / grid.dx)) + 2;
+  grid.nz = static_cast<int>(std::ceil(kKernelZMax / grid.dz)) + 2;
+  return grid;
+}
+}  // namespace detail
+
+std::vector<double> KernelTable::compute_nodes() {
+  const detail::KernelGrid grid = detail::kernel_grid();
+  std::vector<double> nodes(static_cast<std::size_t>(grid.nx) * grid.nz * 4, 0.0);
+  tbb::parallel_for(tbb::blocked_range<int>(0, grid.nx), [&](const tbb::blocked_range<int>& rows) {
+    for (int i = rows.begin(); i != rows.end(); ++i)
+      for (int j = 0; j < grid.nz; ++j)
+        node_values(grid.x_min + i * grid.dx, j * grid.dz, &nodes[4 * (static_cast<std::size_t>(i) * grid.nz + j)]);
+  });
+  return nodes;
+}
+
 const KernelTable& KernelTable::instance() {
   static const KernelTable table;  // C++11: thread-safe initialisation
   return table;
@@ -42,18 +70,23 @@ const KernelTable& KernelTable::instance() {
 
 KernelTable::KernelTable() {
   const auto start = std::chrono::steady_clock::now();
-  x_min_ = std::log(kKernelGMin);
-  dx_ = 1.0 / kKernelNodesPerUnitX;
-  dz_ = 1.0 / kKernelNodesPerUnitZ;
-  // One cell beyond each end so that every in-domain query has a full cell.
-  nx_ = static_cast<int>(std::ceil((std::log(kKernelGMax) - x_min_) / dx_)) + 2;
-  nz_ = static_cast<int>(std::ceil(kKernelZMax / dz_)) + 2;
-  nodes_.assign(static_cast<std::size_t>(nx_) * nz_ * 4, 0.0);
-  tbb::parallel_for(tbb::blocked_range<int>(0, nx_), [&](const tbb::blocked_range<int>& rows) {
-    for (int i = rows.begin(); i != rows.end(); ++i)
-      for (int j = 0; j < nz_; ++j)
-        node_values(x_min_ + i * dx_, j * dz_, &nodes_[4 * (static_cast<std::size_t>(i) * nz_ + j)]);
-  });
+  const detail::KernelGrid grid = detail::kernel_grid();
+  nx_ = grid.nx, nz_ = grid.nz, x_min_ = grid.x_min, dx_ = grid.dx, dz_ = grid.dz;
+  const detail::EmbeddedKernelTable file = detail::embedded_kernel_table();
+  if (file.data == nullptr) {  // the generator itself
+    computed_ = compute_nodes();
+    nodes_ = computed_.data();
+  } else {
+    // The embedded file must be this grid's: a mismatch is a stale build, never a table to use.
+    detail::KernelTableFileHeader header;
+    const bool sized = file.size >= sizeof header;
+    if (sized) std::memcpy(&header, file.data, sizeof header);
+    if (!sized || std::memcmp(header.magic, detail::kKernelTableMagic, sizeof header.magic) != 0 || header.nx != nx_ ||
+        header.nz != nz_ || header.x_min != x_min_ || header.dx != dx_ || header.dz != dz_ ||
+        header.values != value_count() || file.size != sizeof header + bytes())
+      throw std::logic_error("libbrdf: the embedded kernel table does not match kernel_table.h's grid (stale build: rebuild libbrdf)");
+    nodes_ = reinterpret_cast<const double*>(file.data + sizeof header);
+  }
   build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
@@ -82,7 +115,7 @@ double KernelTable::sigma(double g, double c) const {
 }
 
 void KernelTable::sigma_many(const double* g, const double* c, std::size_t count, double* sigma) const {
-  detail::kernel_table_lanes(nodes_.data(), nx_, nz_, x_min_, dx_, dz_, g, c, count, sigma);
+  detail::kernel_table_lanes(nodes_, nx_, nz_, x_min_, dx_, dz_, g, c, count, sigma);
 }
 
 }  // namespace libbrdf

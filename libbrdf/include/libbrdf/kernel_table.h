@@ -7,8 +7,10 @@
 //
 // depends on no material, wavelength or surface: every ASF model (asf, mbk, mbk-fg, bk,
 // bk-modified) is (K) x (angular factor) x (pi l_c^2/lambda^2) x Sigma(g, c), so one table serves
-// them all. It is generated once per process at first use (multi-threaded; 84k nodes by the SIMD
-// series' moments: ~42 ms of CPU, build_seconds() reports the wall time) -- not shipped as a file.
+// them all. Its 500k nodes are computed once, at build time, by the series' moments
+// (tools/generate_kernel_table.cpp, ~0.4 s of CPU) and assembled into the library
+// (kernel_table_data.S): a process pays nothing to start it. compute_nodes() recomputes them; a test
+// asserts that the embedded table is that result bit for bit.
 //
 // Grid (also written into kernel-layout LUT files):
 //   x = ln g                 nodes x_i = kKernelXMin + i dx, i = 0 .. kKernelNx - 1
@@ -26,18 +28,27 @@ namespace libbrdf {
 inline constexpr double kKernelGMin = 1e-5;    // table domain in g (outside: closed forms or series)
 inline constexpr double kKernelGMax = 1e7;
 inline constexpr double kKernelZMax = 30.0;    // c / (g + 1) <= 900: values down to ~e^-900 of the peak
-inline constexpr int kKernelNodesPerUnitX = 10;  // dx = 1/10 in ln g
-inline constexpr int kKernelNodesPerUnitZ = 10;  // dz = 1/10
+// Node spacing, chosen for a certified 1e-6 (the default tolerance) at the fewest nodes: the
+// bicubic error goes as h^4. In z it is largest at small g, where the dominant term m -> m + 1
+// switches within ~(m + 1/2) / (2 sqrt(ln 1/g)) in z (0.15 at g = 1e-5); in x at large g and z.
+// Measured max (random points): dz = dx = 1/10: 2.1e-5; 1/20, 1/25: 4.6e-7 (g ~ 1e-5);
+// 1/20, 1/30: 2.7e-7 (now: 555 x 902 nodes, 16 MB).
+inline constexpr int kKernelNodesPerUnitX = 20;  // dx = 1/20 in ln g
+inline constexpr int kKernelNodesPerUnitZ = 30;  // dz = 1/30
 
 // The largest relative error of KernelTable::sigma against the series over its domain, measured
-// by a dense sweep (tests/cpp/test_kernel_table.cpp asserts it; `brdf bench` reports it). The
-// automatic method choice (asf_auto) uses the table only where the caller's tolerance is >= this.
-inline constexpr double kKernelTableCertifiedError = 1e-4;
+// by a dense sweep (tests/cpp/test_kernel_table.cpp asserts it with a margin of 2; `brdf bench`
+// reports it). The automatic method choice (asf_auto) uses the table only where the caller's
+// tolerance is >= this: at the default tolerance, 1e-6, it does.
+inline constexpr double kKernelTableCertifiedError = 1e-6;
 
 class KernelTable {
  public:
-  // The process-wide table, built on first use (thread-safe).
+  // The process-wide table: the one embedded at build time, or (in the generator, which has none)
+  // computed on first use. Thread-safe.
   static const KernelTable& instance();
+  // Every node of the grid from the series (multi-threaded): 4 doubles per node as nodes().
+  static std::vector<double> compute_nodes();
 
   // True when (g, c) lies inside the table: kKernelGMin <= g <= kKernelGMax, z <= kKernelZMax.
   bool contains(double g, double c) const {  // inline: asf_auto_batch asks it for every query
@@ -55,16 +66,20 @@ class KernelTable {
   double dx() const { return dx_; }
   double dz() const { return dz_; }
   // Node data: 4 doubles per node (F, F_x, F_z, F_xz), node (i, j) at index 4 (i nz + j).
-  const std::vector<double>& nodes() const { return nodes_; }
-  std::size_t bytes() const { return nodes_.size() * sizeof(double); }
-  // Wall time the build took in this process (s).
+  const double* nodes() const { return nodes_; }
+  std::size_t value_count() const { return static_cast<std::size_t>(nx_) * nz_ * 4; }
+  std::size_t bytes() const { return value_count() * sizeof(double); }
+  // True when the nodes are the library's embedded ones (no computation in this process).
+  bool embedded() const { return computed_.empty(); }
+  // Wall time this process spent on the table (s): ~0 when embedded.
   double build_seconds() const { return build_seconds_; }
 
  private:
   KernelTable();
   int nx_ = 0, nz_ = 0;
   double x_min_ = 0.0, dx_ = 0.0, dz_ = 0.0;
-  std::vector<double> nodes_;
+  const double* nodes_ = nullptr;
+  std::vector<double> computed_;  // empty when embedded
   double build_seconds_ = 0.0;
 };
 
