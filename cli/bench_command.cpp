@@ -185,8 +185,13 @@ class Bench {
     // listed with its fast paths.
     for (ModelKind kind : {ModelKind::mbk_fg, ModelKind::bk, ModelKind::bk_modified, ModelKind::microfacet})
       add_model_row("model", kind, s, gold(s), "default");
-    add_model_row("fast_path", ModelKind::mbk, s, gold(s), "auto regime tol 1e-6 (default)");
+    add_model_row("fast_path", ModelKind::mbk, s, gold(s), "auto regime tol 1e-6 (default: kernel table)");
+    ModelParameters series_only = gold(s);
+    series_only.series.allow_kernel_table = false;
+    add_model_row("fast_path", ModelKind::mbk, s, series_only, "series tol 1e-6 (--asf-method series)");
     ModelParameters loose = gold(s);
+    loose.tolerance = 1e-4;
+    add_model_row("fast_path", ModelKind::mbk, s, loose, "auto regime tol 1e-4");
     loose.tolerance = 1e-3;
     add_model_row("fast_path", ModelKind::mbk, s, loose, "auto regime tol 1e-3");
     ModelParameters strided = reference_parameters(s);
@@ -194,15 +199,11 @@ class Bench {
     add_model_row("fast_path", ModelKind::mbk, s, strided, "series strided (tol 0)");
     add_model_row("fast_path", ModelKind::mbk_polished, s, gold(s), "closed form eq. 14");
     add_model_row("fast_path", ModelKind::mbk_rough, s, gold(s), "closed form eq. 15");
-    ModelParameters table = gold(s);
-    table.tolerance = libbrdf::kKernelTableCertifiedError;
-    add_model_row("fast_path", ModelKind::mbk, s, table, "auto regime tol 1e-4 (kernel table)");
     // The ASF alone (eq. 11, K = 1): the series, the kernel table, and the landed method.
-    ModelParameters asf_series = gold(s);
-    add_model_row("fast_path", ModelKind::asf, s, asf_series, "series SIMD tol 1e-6 (default)");
-    add_asf_batch_row(s, asf_series.tolerance, "batch: series in lanes tol 1e-6");
-    add_model_row("fast_path", ModelKind::asf, s, table, "kernel table tol 1e-4");
-    add_asf_batch_row(s, table.tolerance, "batch: kernel table in lanes tol 1e-4");
+    add_model_row("fast_path", ModelKind::asf, s, series_only, "series SIMD tol 1e-6 (--asf-method series)");
+    add_asf_batch_row(s, series_only, "batch: series in lanes tol 1e-6");
+    add_model_row("fast_path", ModelKind::asf, s, gold(s), "kernel table tol 1e-6 (default)");
+    add_asf_batch_row(s, gold(s), "batch: kernel table in lanes tol 1e-6 (default)");
     ModelParameters asf_landed = reference_parameters(s);
     asf_landed.series.method = libbrdf::SeriesMethod::strided;
     add_model_row("fast_path", ModelKind::asf, s, asf_landed, "series strided scalar (landed method; tol 0)");
@@ -295,7 +296,7 @@ class Bench {
   // The ASF through the batch API (asf_auto_batch: queries in SIMD lanes) over the whole set on
   // one thread, g and c derived from the geometries inside the timing; speed_vs_landed against the
   // row just before it (the same tolerance query by query through Model::evaluate).
-  void add_asf_batch_row(const BenchSurface& s, double tolerance, const std::string& variant) {
+  void add_asf_batch_row(const BenchSurface& s, const ModelParameters& parameters, const std::string& variant) {
     Reference& ref = reference(ModelKind::asf, s, false);
     const double landed = rows_.back().evals_per_s;
     const libbrdf::Surface surface{s.sigma_s_um, s.lc_um, kWavelengthUm};
@@ -307,7 +308,7 @@ class Bench {
         const libbrdf::AsfArguments a = libbrdf::asf_arguments(surface, full_.geometries[k]);
         g[k] = a.g, c[k] = a.c, prefactor = a.prefactor;
       }
-      libbrdf::asf_auto_batch(g.data(), c.data(), n, prefactor, tolerance, libbrdf::SeriesOptions{}, values.data());
+      libbrdf::asf_auto_batch(g.data(), c.data(), n, prefactor, parameters.tolerance, parameters.series, values.data());
     };
     run();
     Row row{"fast_path", "asf", s.name, variant, "", ""};

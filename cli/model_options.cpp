@@ -32,6 +32,9 @@ void add_model_options(CLI::App& command, ModelOptions& o, bool require_model) {
   command.add_option("--k-mode", o.k_mode, "Renormalization K: plane (eq. 13, default) | tis");
   command.add_option("--sigma-g-mapping", o.sigma_g_mapping, "sigma_g from sigma_s, l_c: auto|rough (eq. 20)|polished (eq. 25)");
   command.add_option("--tolerance", o.tolerance, "Relative error allowed for a closed form inside mbk (0 = always the series; default 1e-6)");
+  command.add_option("--asf-method", o.asf_method,
+                     "How the ASF (eq. 11) meets --tolerance: auto (the fastest certified: closed forms, kernel table, "
+                     "series; default) | series (no kernel table)");
 }
 
 libbrdf::ModelKind parse_model_kind(const ModelOptions& o) { return libbrdf::model_from_name(o.model); }
@@ -71,6 +74,7 @@ libbrdf::ModelParameters model_parameters(const ModelOptions& o, double waveleng
   p.sigma_g_mapping = parse_choice<libbrdf::SigmaGMapping>(o.sigma_g_mapping, "sigma-g-mapping",
       {{"auto", libbrdf::SigmaGMapping::automatic}, {"rough", libbrdf::SigmaGMapping::rough}, {"polished", libbrdf::SigmaGMapping::polished}});
   p.tolerance = o.tolerance;
+  p.series.allow_kernel_table = parse_choice<bool>(o.asf_method, "asf-method", {{"auto", true}, {"series", false}});
   return p;
 }
 

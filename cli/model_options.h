@@ -24,6 +24,7 @@ struct ModelOptions {
   std::string k_mode = "plane";
   std::string sigma_g_mapping = "auto";
   double tolerance = 1e-6;
+  std::string asf_method = "auto";
 };
 
 // Registers the options on a subcommand. `default_wavelengths` is what an absent --wavelength means.

@@ -23,7 +23,10 @@ EXACT = 1e-9  # where error 0 is drawn
 TOP = 1e2  # larger errors are drawn here, off scale, with their value
 COLORS = {"model": "#1f77b4", "fast_path": "#ff7f0e", "lut": "#2ca02c"}
 LUT_MARKERS = {"rusinkiewicz": "s", "merl": "D", "slice": "^"}
-SHORT_VARIANT = {"auto regime tol 1e-6 (default)": "auto 1e-6", "auto regime tol 1e-3": "auto 1e-3",
+SHORT_VARIANT = {"auto regime tol 1e-6 (default: kernel table)": "auto 1e-6", "auto regime tol 1e-4": "auto 1e-4",
+                 "auto regime tol 1e-3": "auto 1e-3", "series tol 1e-6 (--asf-method series)": "series 1e-6",
+                 "series SIMD tol 1e-6 (--asf-method series)": "series 1e-6",
+                 "kernel table tol 1e-6 (default)": "table 1e-6",
                  "series strided (tol 0)": "strided", "closed form eq. 14": "", "closed form eq. 15": "",
                  "k-mode tis (vs plane)": "K tis", "default": "", "reference": "ref"}
 

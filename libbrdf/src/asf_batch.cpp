@@ -338,7 +338,8 @@ void asf_auto_batch(const double* g, const double* c, std::size_t count, double 
   SeriesOptions series = options;
   series.relative_tolerance = detail::auto_series_truncation(tolerance, options.relative_tolerance);
   const bool lanes = series.relative_tolerance >= detail::kLaneMinTolerance;
-  const KernelTable* table = tolerance >= kKernelTableCertifiedError ? &KernelTable::instance() : nullptr;
+  const bool use_table = options.allow_kernel_table && tolerance >= kKernelTableCertifiedError;
+  const KernelTable* table = use_table ? &KernelTable::instance() : nullptr;
   constexpr std::size_t kChunk = 1024;
   alignas(64) double table_g[kChunk], table_c[kChunk], table_sigma[kChunk], series_g[kChunk], series_c[kChunk],
       series_sigma[kChunk];
@@ -348,14 +349,14 @@ void asf_auto_batch(const double* g, const double* c, std::size_t count, double 
     std::size_t tables = 0, sums = 0;
     for (std::size_t k = begin; k < end; ++k) {
       const double gk = g[k], ck = c[k];
-      // asf_auto's order: closed forms, table, series. A closed form is possible only where its
+      // asf_auto's order: table, closed forms, series. A closed form is possible only where its
       // error estimate's leading term is below the tolerance (polished >= g; rough >= 2/g^2):
       // those queries go through asf_auto itself, so the choice is asf_auto's, bit for bit.
       const bool closed_form = tolerance > 0.0 && ((gk > 0.0 && gk < 0.5 && gk < tolerance) || (gk > 50.0 && 2.0 / (gk * gk) < tolerance));
-      if (closed_form) {
-        scalar(k);
-      } else if (table && table->contains(gk, ck)) {
+      if (table && table->contains(gk, ck)) {
         table_g[tables] = gk, table_c[tables] = ck, table_index[tables++] = static_cast<std::uint32_t>(k);
+      } else if (closed_form) {
+        scalar(k);
       } else if (lanes && gk >= detail::kLaneMinG && gk <= detail::kLaneMaxG && ck >= 0.0 && ck <= detail::kLaneMaxC) {
         series_g[sums] = gk, series_c[sums] = ck, series_index[sums++] = static_cast<std::uint32_t>(k);
       } else {

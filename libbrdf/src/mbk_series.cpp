@@ -290,7 +290,7 @@ double asf(const Surface& surface, const ScatterGeometry& geo, const SeriesOptio
 double asf_auto(const AsfArguments& args, double tolerance, AsfRegime* regime, const SeriesOptions& options) {
   SeriesOptions series = options;
   series.relative_tolerance = detail::auto_series_truncation(tolerance, options.relative_tolerance);
-  const AsfRegime chosen = asf_regime(args, tolerance);
+  const AsfRegime chosen = asf_regime(args, tolerance, options.allow_kernel_table);
   double sum;
   switch (chosen) {
     case AsfRegime::polished: sum = mbk_series_polished(args.g, args.c); break;
@@ -302,13 +302,15 @@ double asf_auto(const AsfArguments& args, double tolerance, AsfRegime* regime, c
   return args.prefactor * sum;
 }
 
-AsfRegime asf_regime(const AsfArguments& args, double tolerance) {
-  // The fastest form whose error bound meets the tolerance: the closed forms (their leading-order
-  // error estimates), then the kernel table (its certified error, kernel_table.h), else the series.
+AsfRegime asf_regime(const AsfArguments& args, double tolerance, bool allow_table) {
+  // The fastest form whose error bound meets the tolerance: the kernel table (its certified error,
+  // kernel_table.h; in lanes it is faster than the scalar closed forms), the closed forms (their
+  // leading-order error estimates), else the series.
+  if (allow_table && tolerance >= kKernelTableCertifiedError && KernelTable::instance().contains(args.g, args.c))
+    return AsfRegime::table;
   if (tolerance > 0.0 && args.g > 0.0 && args.g < 0.5 && polished_error_estimate(args.g, args.c) < tolerance)
     return AsfRegime::polished;
   if (tolerance > 0.0 && args.g > 50.0 && rough_error_estimate(args.g, args.c) < tolerance) return AsfRegime::rough;
-  if (tolerance >= kKernelTableCertifiedError && KernelTable::instance().contains(args.g, args.c)) return AsfRegime::table;
   return AsfRegime::series;
 }
 

@@ -202,8 +202,12 @@ struct RegimeCounts {
 // Whenever asf_auto picks a closed form, its actual error against the (brute-force) series is
 // below the tolerance. Points: g log-uniform over [1e-8, 1e7] (beyond the physical 1e4, so that the
 // rough form is reachable at tolerance 1e-6); c log-uniform over [1e-6, 1e4],
-// or u g with u log-uniform over [1e-3, 30] (the lobe of a rough surface), or 0.
-RegimeCounts check_auto_regime(double tolerance, int samples, double* worst_polished, double* worst_rough) {
+// or u g with u log-uniform over [1e-3, 30] (the lobe of a rough surface), or 0. With the kernel
+// table allowed it takes most of its domain (1e-5 <= g <= 1e7), so the closed forms' choice is
+// checked with it disallowed.
+RegimeCounts check_auto_regime(double tolerance, int samples, double* worst_polished, double* worst_rough, bool allow_table) {
+  SeriesOptions options;
+  options.allow_kernel_table = allow_table;
   std::mt19937_64 rng(static_cast<unsigned long>(1e6 * tolerance) + 3);
   std::uniform_real_distribution<double> log_g(std::log(1e-8), std::log(1e7)), log_c(std::log(1e-6), std::log(1e4)),
       log_u(std::log(1e-3), std::log(30.0)), unit(0, 1);
@@ -214,7 +218,7 @@ RegimeCounts check_auto_regime(double tolerance, int samples, double* worst_poli
     const double pick = unit(rng);
     const double c = pick < 0.45 ? std::exp(log_c(rng)) : pick < 0.9 ? g * std::exp(log_u(rng)) : 0.0;
     AsfRegime regime;
-    const double value = asf_auto(AsfArguments{g, c, 1.0}, tolerance, &regime);
+    const double value = asf_auto(AsfArguments{g, c, 1.0}, tolerance, &regime, options);
     const long double log_ref = libbrdf_test::windowed_log_series(g, c, 45);  // dropped tail < 1e-16 relative
     if (log_ref < std::log(kUnderflow)) continue;
     const double ref = static_cast<double>(std::exp(log_ref));
@@ -243,6 +247,8 @@ RegimeCounts check_auto_regime(double tolerance, int samples, double* worst_poli
 // vanishes (u = 2 -+ sqrt 2) and only the higher orders protect the choice: a coarse grid in
 // u = c/g over [0, 8] plus fine grids within 0.05 of both zeros.
 void check_rough_boundary(double tolerance) {
+  SeriesOptions no_table;  // the closed form's choice itself (the table would take g <= 1e7)
+  no_table.allow_kernel_table = false;
   std::vector<double> us;
   for (double u = 0.0; u < 8.0; u += 0.03) us.push_back(u);
   for (double root : {2.0 - std::sqrt(2.0), 2.0 + std::sqrt(2.0)})
@@ -251,7 +257,7 @@ void check_rough_boundary(double tolerance) {
   for (double g = 50.0; g < 2e4; g *= 1.15) {
     for (double u : us) {
       AsfRegime regime;
-      const double value = asf_auto(AsfArguments{g, u * g, 1.0}, tolerance, &regime);
+      const double value = asf_auto(AsfArguments{g, u * g, 1.0}, tolerance, &regime, no_table);
       if (regime != AsfRegime::rough) continue;
       ++chosen;
       const double ref = static_cast<double>(std::exp(libbrdf_test::windowed_log_series(g, u * g, 45)));
@@ -266,24 +272,32 @@ class AutoRegime : public testing::TestWithParam<double> {};
 TEST_P(AutoRegime, ChosenClosedFormIsWithinTolerance) {
   const double tolerance = GetParam();
   double worst_polished, worst_rough;
-  const RegimeCounts counts = check_auto_regime(tolerance, 2500, &worst_polished, &worst_rough);
-  std::cout << "[ measured ] tol " << tolerance << ": polished chosen " << counts.polished << "x (max error "
-            << worst_polished << "), rough " << counts.rough << "x (max error " << worst_rough << "), table "
-            << counts.table << "x, series " << counts.series << "x\n";
-  // The test must exercise both closed forms.
-  EXPECT_GT(counts.polished, 50);
-  EXPECT_GT(counts.rough, 20);
+  for (bool allow_table : {false, true}) {
+    const RegimeCounts counts = check_auto_regime(tolerance, 2500, &worst_polished, &worst_rough, allow_table);
+    std::cout << "[ measured ] tol " << tolerance << (allow_table ? "" : ", no kernel table") << ": polished chosen "
+              << counts.polished << "x (max error " << worst_polished << "), rough " << counts.rough << "x (max error "
+              << worst_rough << "), table " << counts.table << "x, series " << counts.series << "x\n";
+    if (allow_table) {  // the table wherever it is certified and holds (g, c): most of the points
+      EXPECT_GT(counts.table, 1500);
+    } else {  // the test must exercise both closed forms
+      EXPECT_EQ(counts.table, 0);
+      EXPECT_GT(counts.polished, 50);
+      EXPECT_GT(counts.rough, 20);
+    }
+  }
 }
 
 TEST_P(AutoRegime, RoughChoiceNearEstimateZerosIsWithinTolerance) { check_rough_boundary(GetParam()); }
 
 TEST_P(AutoRegime, PolishedChoiceScanIsWithinTolerance) {
   const double tolerance = GetParam();
+  SeriesOptions no_table;  // the closed form's choice itself (the table would take g >= 1e-5)
+  no_table.allow_kernel_table = false;
   int chosen = 0;
   for (double g = 1e-9; g < 0.5; g *= 1.15) {
     for (double c = 0.0; c < 60.0; c += 0.05) {
       AsfRegime regime;
-      const double value = asf_auto(AsfArguments{g, c, 1.0}, tolerance, &regime);
+      const double value = asf_auto(AsfArguments{g, c, 1.0}, tolerance, &regime, no_table);
       if (regime != AsfRegime::polished) continue;
       ++chosen;
       const double ref = static_cast<double>(brute_force_series(g, c));

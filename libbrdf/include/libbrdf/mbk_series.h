@@ -34,6 +34,9 @@ enum class SeriesMethod {
 struct SeriesOptions {
   double relative_tolerance = 1e-14;  // truncation: dropped tail < tol * sum
   SeriesMethod method = SeriesMethod::simd;
+  // asf_auto may use the kernel table (kernel_table.h) where its certified error meets the
+  // tolerance; false keeps it to the closed forms and the series (to measure the series itself).
+  bool allow_kernel_table = true;
 };
 
 // Above this g every method returns the very-rough limit (eq. 15), whose relative error there is
@@ -82,14 +85,15 @@ AsfArguments asf_arguments(const Surface& surface, const ScatterGeometry& geo);
 double asf(const Surface& surface, const ScatterGeometry& geo, const SeriesOptions& options = {});
 
 // eq. 11 with K = 1 by the fastest method whose error bound is below `tolerance` (relative; 0 =
-// always the series at options' truncation): a closed form where its estimated error is below it,
-// else the universal kernel table (kernel_table.h) where its certified error is, else the series
-// truncated at tolerance/10. Reports the method used.
+// always the series at options' truncation): the universal kernel table (kernel_table.h) where its
+// certified error is (from the default 1e-6 up; unless options.allow_kernel_table is false), else
+// a closed form where its estimated error is below it, else the series truncated at tolerance/10.
+// Reports the method used.
 double asf_auto(const AsfArguments& args, double tolerance, AsfRegime* regime = nullptr,
                 const SeriesOptions& options = {});
 // The method asf_auto uses at (g, c) for `tolerance` (for callers that batch one method, e.g. the
-// table through KernelTable::sigma_many).
-AsfRegime asf_regime(const AsfArguments& args, double tolerance);
+// table through KernelTable::sigma_many). allow_table: SeriesOptions::allow_kernel_table.
+AsfRegime asf_regime(const AsfArguments& args, double tolerance, bool allow_table = true);
 
 // asf_auto over a batch of queries sharing one surface (one prefactor pi l_c^2/lambda^2):
 // asf_out[k] = asf_auto({g[k], c[k], prefactor}, tolerance, nullptr, options) up to the tolerance:
