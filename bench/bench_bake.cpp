@@ -4,15 +4,18 @@
 //                     tables (each bake of the process a surface 1e-12 apart, so K is never cached),
 //                     wall seconds on this machine (all cores; oneTBB), and the CPU seconds of
 //                     all threads (cpu_s_all_threads; wall ~ that / cores on an idle machine).
-//                     per_node:1/strided:1 is the landed path (node by node through Model::evaluate,
-//                     the scalar strided series for the rows' ASF); per_node:1/strided:0 the same with
-//                     the SIMD series; per_node:0/strided:0 the default (each row of nodes one span
-//                     through Model::evaluate_many). speedup = landed CPU seconds / this one's. All
-//                     three share the K tables' quadrature and the error sampling (since made faster
+//                     per_node:1/asf:1 is the landed path (node by node through Model::evaluate,
+//                     the scalar strided series for the rows' ASF); per_node:1/asf:2 the same with
+//                     the SIMD series; per_node:0/asf:2 each row of nodes one span
+//                     through Model::evaluate_many with the SIMD series (the default before the
+//                     kernel table was certified at 1e-6); per_node:0/asf:0 the default (spans, the
+//                     ASF from the kernel table where certified). The ASF options: asf:0 auto,
+//                     asf:1 strided series, asf:2 SIMD series (1 and 2 without the kernel table).
+//                     speedup = landed CPU seconds / this one's. All four share the K tables' quadrature and the error sampling (since made faster
 //                     too: SIMD-lane ASF), so against the code before issue 9 the ratio is larger.
 //   bake/merl_cached  the same bakes with the K tables already cached (the node evaluations and the
 //                     error sampling); max_table_diff = largest difference from the landed table,
-//                     diff_vs_per_node = the span path's from per node with the same (SIMD) series,
+//                     diff_vs_per_node = the span paths' from per node with the SIMD series,
 //                     each relative to max(|value|, 1e-3 x the table's maximum), every node.
 //   bake/kernel_cold  the kernel layout (54^3 angular factor x 3 wavelengths, K tables built).
 //   ktable/<lambda>   one RenormalizationTable (91 nodes of eq. 13 by quadrature), per wavelength.
@@ -57,20 +60,23 @@ double cpu_seconds() {
   return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
 }
 
-BakeRequest merl_request(double sigma_s_um, SeriesMethod method = SeriesMethod::simd) {
+// asf: 0 = the default (auto: kernel table where certified), 1 = the landed strided series,
+// 2 = the SIMD series (1 and 2 without the kernel table).
+BakeRequest merl_request(double sigma_s_um, int asf = 0) {
   BakeRequest r;
   r.model = ModelKind::mbk;
   r.layout = LutLayout::merl;
   for (double w : {0.65, 0.55, 0.45}) {
     r.channels.push_back(gold(w, sigma_s_um));
-    r.channels.back().series.method = method;
+    r.channels.back().series.method = asf == 1 ? SeriesMethod::strided : SeriesMethod::simd;
+    r.channels.back().series.allow_kernel_table = asf == 0;
   }
   r.error_samples = 20000;
   return r;
 }
 
 // CPU seconds per bake of the landed path (node by node, strided series): the reference of the
-// speedup counters (measured by the first benchmark, bake/merl_cold/per_node/strided).
+// speedup counters (measured by the first benchmark, bake/merl_cold/per_node:1/asf:1).
 struct BakeReference {
   double cold = 0.0, cached = 0.0;
   std::vector<float> cached_values;         // the landed path's table, for max_table_diff
@@ -81,15 +87,13 @@ BakeReference& bake_reference() {
   return reference;
 }
 
-// Args: path (0 = span, Model::evaluate_many per row; 1 = per node, Model::evaluate), series for
-// the rows' ASF (0 = SIMD, 1 = the landed scalar strided series; the K tables' integrals use the
-// SIMD series in both). speedup = the landed path's (1/1) CPU seconds / this one's, same run.
+// Args: path (0 = span, Model::evaluate_many per row; 1 = per node, Model::evaluate), asf for
+// the rows' ASF (merl_request; the K tables' integrals are the same in all). speedup = the landed
+// path's (1/1) CPU seconds / this one's, same run.
 detail::BakeNodePath node_path(const benchmark::State& state) {
   return state.range(0) == 0 ? detail::BakeNodePath::span : detail::BakeNodePath::per_node;
 }
-SeriesMethod series_method(const benchmark::State& state) {
-  return state.range(1) == 0 ? SeriesMethod::simd : SeriesMethod::strided;
-}
+int asf_variant(const benchmark::State& state) { return static_cast<int>(state.range(1)); }
 bool is_landed(const benchmark::State& state) { return state.range(0) == 1 && state.range(1) == 1; }
 
 // A sigma_s never baked before in this process (1e-12 apart): its K tables are built inside the
@@ -104,7 +108,7 @@ void BM_BakeMerlCold(benchmark::State& state) {
   double error = 0.0;
   const double cpu_start = cpu_seconds();
   for (auto _ : state) {
-    const Lut lut = detail::bake(merl_request(fresh_sigma_s(), series_method(state)), node_path(state));
+    const Lut lut = detail::bake(merl_request(fresh_sigma_s(), asf_variant(state)), node_path(state));
     error = lut.error.max_relative;
     benchmark::DoNotOptimize(lut.values.data());
   }
@@ -116,7 +120,7 @@ void BM_BakeMerlCold(benchmark::State& state) {
   if (bake_reference().cold > 0.0) state.counters["speedup"] = bake_reference().cold / cpu;
 }
 // The landed path first: the others' speedup counters divide by its time.
-BENCHMARK(BM_BakeMerlCold)->Name("bake/merl_cold")->Args({1, 1})->Args({1, 0})->Args({0, 0})->ArgNames({"per_node", "strided"})
+BENCHMARK(BM_BakeMerlCold)->Name("bake/merl_cold")->Args({1, 1})->Args({1, 2})->Args({0, 2})->Args({0, 0})->ArgNames({"per_node", "asf"})
     ->Unit(benchmark::kSecond)->UseRealTime()->Iterations(3);
 
 // The same bakes with the K tables already cached: the node evaluations (and the error sampling)
@@ -136,7 +140,7 @@ double max_table_difference(const std::vector<float>& values, const std::vector<
 }
 
 void BM_BakeMerlCached(benchmark::State& state) {
-  const BakeRequest request = merl_request(0.1, series_method(state));
+  const BakeRequest request = merl_request(0.1, asf_variant(state));
   (void)bake(request);  // builds and caches the K tables
   const double cpu_start = cpu_seconds();
   std::vector<float> values;
@@ -151,7 +155,7 @@ void BM_BakeMerlCached(benchmark::State& state) {
     reference.cached = cpu;
     reference.cached_values = values;
   }
-  const bool per_node_simd = state.range(0) == 1 && state.range(1) == 0;
+  const bool per_node_simd = state.range(0) == 1 && state.range(1) == 2;
   if (per_node_simd) reference.per_node_simd_values = values;
   state.counters["cpu_s_all_threads"] = cpu;
   if (reference.cached > 0.0) state.counters["speedup"] = reference.cached / cpu;
@@ -159,7 +163,7 @@ void BM_BakeMerlCached(benchmark::State& state) {
   // The span path against the per-node path with the same (SIMD) series: what evaluate_many changes.
   if (state.range(0) == 0) state.counters["diff_vs_per_node"] = max_table_difference(values, reference.per_node_simd_values);
 }
-BENCHMARK(BM_BakeMerlCached)->Name("bake/merl_cached")->Args({1, 1})->Args({1, 0})->Args({0, 0})->ArgNames({"per_node", "strided"})
+BENCHMARK(BM_BakeMerlCached)->Name("bake/merl_cached")->Args({1, 1})->Args({1, 2})->Args({0, 2})->Args({0, 0})->ArgNames({"per_node", "asf"})
     ->Unit(benchmark::kSecond)->UseRealTime()->Iterations(3);
 
 // The kernel layout (54^3 x 3 channels of the angular factor, K tables built inside).

@@ -33,7 +33,7 @@ void add_model_options(CLI::App& command, ModelOptions& o, bool require_model) {
   command.add_option("--sigma-g-mapping", o.sigma_g_mapping, "sigma_g from sigma_s, l_c: auto|rough (eq. 20)|polished (eq. 25)");
   command.add_option("--tolerance", o.tolerance, "Relative error allowed for a closed form inside mbk (0 = always the series; default 1e-6)");
   command.add_option("--asf-method", o.asf_method,
-                     "How the ASF (eq. 11) meets --tolerance: auto (the fastest certified: closed forms, kernel table, "
+                     "How the ASF (eq. 11) meets --tolerance: auto (the fastest certified: kernel table, closed forms, "
                      "series; default) | series (no kernel table)");
 }
 

@@ -11,7 +11,11 @@ load on the machine hits the I/O run and the model runs alike. Everything runs o
 --all-cpus): one thread per evaluation, as numpy.
 
   tools/bench/eval_vs_numpy.py --brdf build/cli/brdf [--points 1000000] [--repeat 5] [--tolerance 1e-6 1e-4] [--models asf mbk]
-Prints a CSV: surface,model,tolerance,numpy_ns,io_ns (the `--model g` run per query), cli_ns (I/O
+      [--methods auto series]
+--methods: `brdf eval --asf-method` values; each tolerance runs with `auto` (the default: the kernel table
+where certified), `series` runs at 1e-6 only (the series in SIMD lanes, what 1e-6 ran before the table
+was certified there).
+Prints a CSV: surface,model,tolerance,method,numpy_ns,io_ns (the `--model g` run per query), cli_ns (I/O
 cancelled), cli_spread_ns (max - min of that difference over the repeats: how far to trust cli_ns),
 speedup (numpy / cli), max_rel_err (CLI asf against a converged reference series, the first 20000
 points), numpy_max_rel_err (the timed numpy script against the same reference), and, when the Python module imports
@@ -77,6 +81,7 @@ def main():
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--tolerance", nargs="*", default=["1e-6", "1e-4"])
     ap.add_argument("--models", nargs="*", default=["asf", "mbk"])
+    ap.add_argument("--methods", nargs="*", default=["auto", "series"])
     ap.add_argument("--all-cpus", action="store_true",
                     help="let brdf and the module use every CPU (default: this process and its children on one CPU, "
                          "so that oneTBB runs one thread and its idle workers add no CPU time)")
@@ -90,11 +95,12 @@ def main():
         import libbrdf
     except ImportError:
         libbrdf = None
-    print("surface,model,tolerance,numpy_ns,io_ns,cli_ns,cli_spread_ns,speedup,max_rel_err,numpy_max_rel_err,module_cpu_ns,module_wall_ns,module_speedup_cpu")
+    print("surface,model,tolerance,method,numpy_ns,io_ns,cli_ns,cli_spread_ns,speedup,max_rel_err,numpy_max_rel_err,module_cpu_ns,module_wall_ns,module_speedup_cpu")
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "q.csv")
         np.savetxt(path, deg, delimiter=",", fmt="%.17g")
-        configs = [(m, t) for m in a.models for t in a.tolerance]
+        configs = [(m, t, "auto") for m in a.models for t in a.tolerance if "auto" in a.methods]
+        configs += [(m, "1e-6", "series") for m in a.models if "series" in a.methods]
         for name, s in SURFACES.items():
             surface = ["--sigma-s", str(s["sigma_s"]), "--lc", str(s["lc"]), "--wavelength", str(s["wavelength"])]
             best_np = math.inf
@@ -106,9 +112,9 @@ def main():
             exact = reference_asf(ti[check], ts[check], ps[check], **s)
             keep = exact > 1e-300
             numpy_error = float(np.max(np.abs(ref[check][keep] - exact[keep]) / exact[keep]))
-            def args(model, tol):
+            def args(model, tol, method):
                 extra = ["--n", "1.5", "--k", "1"] if model != "asf" else []
-                return ["--model", model, *surface, *extra, "--tolerance", tol]
+                return ["--model", model, *surface, *extra, "--tolerance", tol, "--asf-method", method]
             io_runs, runs, outputs = [], {c: [] for c in configs}, {}
             for r in range(a.repeat):  # interleaved: the I/O run, then every configuration
                 io_runs.append(time_cli(a.brdf, ["--model", "g", *surface], path)[0])
@@ -118,15 +124,16 @@ def main():
                     if r == 0:
                         outputs[config] = out
             io = min(io_runs)
-            for model, tol in configs:
-                vals = np.loadtxt(outputs[(model, tol)].splitlines()[1:], delimiter=",")[:, 3][check]
+            for model, tol, method in configs:
+                config = (model, tol, method)
+                vals = np.loadtxt(outputs[config].splitlines()[1:], delimiter=",")[:, 3][check]
                 diff = float(np.max(np.abs(vals[keep] - exact[keep]) / exact[keep])) if model == "asf" else float("nan")
-                differences = [t - i for t, i in zip(runs[(model, tol)], io_runs)]
+                differences = [t - i for t, i in zip(runs[config], io_runs)]
                 per_np, per_io = best_np / a.points * 1e9, io / a.points * 1e9
-                per_cli = max(min(runs[(model, tol)]) - io, 1e-12) / a.points * 1e9
+                per_cli = max(min(runs[config]) - io, 1e-12) / a.points * 1e9
                 spread = (max(differences) - min(differences)) / a.points * 1e9
                 module = ",,"
-                if libbrdf is not None:
+                if libbrdf is not None and method == "auto":  # the module has no asf-method keyword
                     kwargs = dict(sigma_s=s["sigma_s"], lc=s["lc"], wavelength=s["wavelength"], tolerance=float(tol))
                     if model != "asf":
                         kwargs.update(n=1.5, k=1.0)
@@ -139,7 +146,7 @@ def main():
                         cpu, wall = min(cpu, time.process_time() - c0), min(wall, time.perf_counter() - w0)
                     per_cpu, per_wall = cpu / a.points * 1e9, wall / a.points * 1e9
                     module = f"{per_cpu:.1f},{per_wall:.1f},{per_np / per_cpu:.2f}"
-                print(f"{name},{model},{tol},{per_np:.1f},{per_io:.1f},{per_cli:.1f},{spread:.1f},{per_np / per_cli:.2f},{diff:.2e},"
+                print(f"{name},{model},{tol},{method},{per_np:.1f},{per_io:.1f},{per_cli:.1f},{spread:.1f},{per_np / per_cli:.2f},{diff:.2e},"
                       f"{numpy_error:.2e},{module}")
                 sys.stdout.flush()
 
