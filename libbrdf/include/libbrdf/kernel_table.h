@@ -56,8 +56,8 @@ class KernelTable {
   }
   // Sigma(g, c) by bicubic Hermite interpolation of ln Sigma; only for contains(g, c).
   double sigma(double g, double c) const;
-  // sigma[k] = sigma(g[k], c[k]) for k < count, one query per SIMD lane (gathers); the same
-  // interpolation up to rounding. Every (g[k], c[k]) must be inside (contains).
+  // sigma[k] = sigma(g[k], c[k]) for k < count, one query per SIMD lane (cell rows loaded per lane
+  // and transposed); the same interpolation up to rounding. Every (g[k], c[k]) must be inside.
   void sigma_many(const double* g, const double* c, std::size_t count, double* sigma) const;
 
   int nx() const { return nx_; }
