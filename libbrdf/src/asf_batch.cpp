@@ -410,6 +410,15 @@ void asf_auto_batch(const double* g, const double* c, std::size_t count, double 
   std::uint32_t table_index[kChunk], series_index[kChunk], rejected[kChunk];
   for (std::size_t begin = 0; begin < count; begin += kChunk) {
     const std::size_t end = std::min(count, begin + kChunk);
+    if (table) {  // the common case at the default tolerance: every query of the chunk in the table
+      bool inside = true;
+      for (std::size_t k = begin; k < end; ++k) inside &= table->contains(g[k], c[k]);
+      if (inside) {
+        table->sigma_many(g + begin, c + begin, end - begin, asf_out + begin);
+        for (std::size_t k = begin; k < end; ++k) asf_out[k] *= prefactor;
+        continue;
+      }
+    }
     std::size_t tables = 0, sums = 0;
     for (std::size_t k = begin; k < end; ++k) {
       const double gk = g[k], ck = c[k];

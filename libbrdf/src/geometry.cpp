@@ -42,9 +42,4 @@ double tan2_theta_h(const ScatterGeometry& geo) {
   return geo.eta_r2 / (sum * sum);  // eq. 19
 }
 
-double roughness_g(double sigma_s_over_lambda, double cos_theta_i, double cos_theta_s) {
-  const double k = 2.0 * kPi * sigma_s_over_lambda * (cos_theta_i + cos_theta_s);
-  return k * k;  // eq. 12
-}
-
 }  // namespace libbrdf

@@ -257,15 +257,6 @@ double rough_error_estimate(double g, double c) {
   return first + next + std::exp(-g) * (1.0 + g);
 }
 
-AsfArguments asf_arguments(const Surface& surface, const ScatterGeometry& geo) {
-  const double lc_over_lambda = surface.lc_over_lambda();
-  AsfArguments args{};
-  args.g = roughness_g(surface.sigma_over_lambda(), geo.cos_theta_i, geo.cos_theta_s);
-  args.prefactor = kPi * lc_over_lambda * lc_over_lambda;  // pi l_c^2 / lambda^2, eq. 11
-  args.c = kPi * args.prefactor * geo.eta_r2;               // v_xy^2 l_c^2 / 4 = pi^2 (l_c/lambda)^2 eta_r^2
-  return args;
-}
-
 void asf_auto_geometries(const Surface& surface, const ScatterGeometry* geos, std::size_t count, double tolerance,
                          const SeriesOptions& options, double* asf_out) {
   constexpr std::size_t kBlock = 256;

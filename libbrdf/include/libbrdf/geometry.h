@@ -67,6 +67,10 @@ void make_scatter_geometries(const ScatterAngles* angles, std::size_t count, Sca
 double tan2_theta_h(const ScatterGeometry& geo);
 
 // eq. 12: g = (2 pi sigma_s / lambda)^2 (cos ti + cos ts)^2, with sigma_s/lambda dimensionless.
-double roughness_g(double sigma_s_over_lambda, double cos_theta_i, double cos_theta_s);
+// Inline: the batch paths compute it per query, next to the kernel table's lookup.
+inline double roughness_g(double sigma_s_over_lambda, double cos_theta_i, double cos_theta_s) {
+  const double k = 2.0 * kPi * sigma_s_over_lambda * (cos_theta_i + cos_theta_s);
+  return k * k;
+}
 
 }  // namespace libbrdf

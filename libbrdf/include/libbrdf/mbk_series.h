@@ -79,7 +79,15 @@ struct AsfArguments {
   double c;          // pi^2 (l_c/lambda)^2 eta_r^2
   double prefactor;  // pi (l_c/lambda)^2
 };
-AsfArguments asf_arguments(const Surface& surface, const ScatterGeometry& geo);
+// Inline: the batch paths compute them per query.
+inline AsfArguments asf_arguments(const Surface& surface, const ScatterGeometry& geo) {
+  const double lc_over_lambda = surface.lc_over_lambda();
+  AsfArguments args{};
+  args.g = roughness_g(surface.sigma_over_lambda(), geo.cos_theta_i, geo.cos_theta_s);
+  args.prefactor = kPi * lc_over_lambda * lc_over_lambda;  // pi l_c^2 / lambda^2, eq. 11
+  args.c = kPi * args.prefactor * geo.eta_r2;               // v_xy^2 l_c^2 / 4 = pi^2 (l_c/lambda)^2 eta_r^2
+  return args;
+}
 
 // eq. 11 with K = 1, by the series.
 double asf(const Surface& surface, const ScatterGeometry& geo, const SeriesOptions& options = {});
