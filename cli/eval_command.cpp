@@ -2,6 +2,7 @@
 //   brdf eval --model NAME [surface params] (--at TI,TS,PHIS ... | --queries FILE|-)
 //   brdf eval --lut FILE [--channel I] (--at ... | --queries ...)   a baked table, same CSV contract
 #include <cmath>
+#include <ctime>
 #include <iostream>
 #include <memory>
 
@@ -22,7 +23,16 @@ struct EvalOptions {
   std::string queries;
   std::string lut;
   int channel = 0;
+  bool timing = false;
 };
+
+// CPU seconds of this process (all threads): what --timing reports, without the CSV reading and
+// writing around it.
+double process_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
 
 // A baked table (OpenEXR or MERL binary) at the queries: channel `channel`, interpolated.
 int evaluate_table(const EvalOptions& o, const std::vector<Query>& queries) {
@@ -61,6 +71,9 @@ void register_eval(CLI::App& app, ActionTable& actions) {
   command->add_option("--channel", options->channel, "With --lut: channel (wavelength index) to evaluate, default 0");
   command->add_option("--at", options->at, "One query TI,TS,PHIS in degrees (repeatable)")->allow_extra_args(false);
   command->add_option("--queries", options->queries, "CSV file of theta_i,theta_s,phi_s lines, or - for stdin");
+  command->add_flag("--timing", options->timing,
+                    "Print to stderr the CPU seconds of the model's set-up (K tables) and of the evaluations, "
+                    "without the CSV input and output");
   actions.emplace_back(command, [options]() {
     if (!options->lut.empty()) {
       const std::vector<Query> queries = read_queries(options->at, options->queries);
@@ -71,7 +84,9 @@ void register_eval(CLI::App& app, ActionTable& actions) {
     const std::vector<double> wavelengths = channel_wavelengths(options->model, {0.55});
     if (wavelengths.size() != 1)
       throw libbrdf::InvalidArgument("wavelength", "eval takes one wavelength (got " + std::to_string(wavelengths.size()) + ")");
+    const double setup_start = process_cpu_seconds();
     const libbrdf::Model model(parse_model_kind(options->model), model_parameters(options->model, wavelengths[0]));
+    const double setup_seconds = process_cpu_seconds() - setup_start;
     const std::vector<Query> queries = read_queries(options->at, options->queries);
     if (queries.empty()) throw libbrdf::InvalidArgument("at", "no queries: give --at TI,TS,PHIS or --queries FILE|-");
     // The batch API (libbrdf/batch.h): the same values as every other front end, in parallel.
@@ -79,10 +94,16 @@ void register_eval(CLI::App& app, ActionTable& actions) {
     for (std::size_t k = 0; k < queries.size(); ++k)
       angles[k] = libbrdf::scatter_angles_from_degrees(queries[k].theta_i_deg, queries[k].theta_s_deg, queries[k].phi_s_deg);
     std::vector<double> values(queries.size());
+    const double evaluation_start = process_cpu_seconds();
     try {
       libbrdf::evaluate_batch(model, angles.data(), angles.size(), values.data());
     } catch (const libbrdf::InvalidQuery& e) {
       throw libbrdf::InvalidArgument(e.parameter(), queries[e.index()].origin() + ": " + e.reason());
+    }
+    if (options->timing) {
+      const double seconds = process_cpu_seconds() - evaluation_start;
+      std::cerr << "brdf eval: set-up " << setup_seconds << " s CPU; " << values.size() << " evaluations " << seconds
+                << " s CPU (" << 1e9 * seconds / static_cast<double>(values.size()) << " ns each)\n";
     }
     std::size_t next = 0;  // write_evaluations visits the queries in order
     write_evaluations(std::cout, queries, [&](const libbrdf::ScatterAngles&) { return values[next++]; });

@@ -17,7 +17,9 @@ where certified), `series` runs at 1e-6 only (the series in SIMD lanes, what 1e-
 was certified there).
 Prints a CSV: surface,model,tolerance,method,numpy_ns,io_ns (the `--model g` run per query), cli_ns (I/O
 cancelled), cli_spread_ns (max - min of that difference over the repeats: how far to trust cli_ns),
-speedup (numpy / cli), max_rel_err (CLI asf against a converged reference series, the first 20000
+speedup (numpy / cli), cli_inproc_ns (the same difference from `brdf eval --timing`: the CPU time of the
+batch call itself, best of the repeats, asf or mbk minus g: no CSV I/O to cancel, so ~1 ns precise where
+cli_ns is only to within its spread), speedup_inproc (numpy / cli_inproc), max_rel_err (CLI asf against a converged reference series, the first 20000
 points), numpy_max_rel_err (the timed numpy script against the same reference), and, when the Python module imports
 (PYTHONPATH=build/python), the same batch API without CSV I/O: module_cpu_ns (all threads),
 module_wall_ns, module_speedup_cpu (numpy CPU / module CPU). `brdf eval` reads with std::from_chars and
@@ -25,7 +27,7 @@ writes with std::to_chars: ~0.6-0.9 us of I/O per query (was ~2.4 us with strtod
 spread of the cancelled difference 50-300 ns at 5e5 points on a loaded two-core machine (was
 0.6-2.6 us): trust cli_ns to about its cli_spread_ns.
 """
-import argparse, math, os, resource, subprocess, sys, tempfile, time
+import argparse, math, os, re, resource, subprocess, sys, tempfile, time
 import numpy as np
 
 SURFACES = {  # the issue's surfaces: lambda = 0.5 um, l_c = 2 um
@@ -65,13 +67,15 @@ def cpu_children():
 
 
 def time_cli(brdf, args, path, keep_output=False):
-    """CPU time (user + system, all threads) of one `brdf eval` run: CPU time, not wall time, so
-    that other load on the machine does not count and a threaded batch is not credited with its
-    second core."""
+    """CPU time (user + system, all threads) of one `brdf eval --timing` run: CPU time, not wall
+    time, so that other load on the machine does not count and a threaded batch is not credited
+    with its second core. Also returns the evaluations' own CPU seconds as --timing reports them
+    (the batch call alone, no CSV reading or writing) and the output."""
     t0 = cpu_children()
-    done = subprocess.run([brdf, "eval", *args, "--queries", path], check=True,
-                          stdout=subprocess.PIPE if keep_output else subprocess.DEVNULL, text=True)
-    return cpu_children() - t0, done.stdout
+    done = subprocess.run([brdf, "eval", "--timing", *args, "--queries", path], check=True,
+                          stdout=subprocess.PIPE if keep_output else subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    inproc = float(re.search(r"evaluations ([0-9.e+-]+) s CPU", done.stderr).group(1))
+    return cpu_children() - t0, done.stdout, inproc
 
 
 def main():
@@ -95,7 +99,7 @@ def main():
         import libbrdf
     except ImportError:
         libbrdf = None
-    print("surface,model,tolerance,method,numpy_ns,io_ns,cli_ns,cli_spread_ns,speedup,max_rel_err,numpy_max_rel_err,module_cpu_ns,module_wall_ns,module_speedup_cpu")
+    print("surface,model,tolerance,method,numpy_ns,io_ns,cli_ns,cli_spread_ns,speedup,cli_inproc_ns,speedup_inproc,max_rel_err,numpy_max_rel_err,module_cpu_ns,module_wall_ns,module_speedup_cpu")
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "q.csv")
         np.savetxt(path, deg, delimiter=",", fmt="%.17g")
@@ -115,12 +119,15 @@ def main():
             def args(model, tol, method):
                 extra = ["--n", "1.5", "--k", "1"] if model != "asf" else []
                 return ["--model", model, *surface, *extra, "--tolerance", tol, "--asf-method", method]
-            io_runs, runs, outputs = [], {c: [] for c in configs}, {}
+            io_runs, io_inproc, runs, inproc, outputs = [], [], {c: [] for c in configs}, {c: [] for c in configs}, {}
             for r in range(a.repeat):  # interleaved: the I/O run, then every configuration
-                io_runs.append(time_cli(a.brdf, ["--model", "g", *surface], path)[0])
+                t, _, t_in = time_cli(a.brdf, ["--model", "g", *surface], path)
+                io_runs.append(t)
+                io_inproc.append(t_in)
                 for config in configs:
-                    t, out = time_cli(a.brdf, args(*config), path, keep_output=(r == 0))
+                    t, out, t_in = time_cli(a.brdf, args(*config), path, keep_output=(r == 0))
                     runs[config].append(t)
+                    inproc[config].append(t_in)
                     if r == 0:
                         outputs[config] = out
             io = min(io_runs)
@@ -132,6 +139,7 @@ def main():
                 per_np, per_io = best_np / a.points * 1e9, io / a.points * 1e9
                 per_cli = max(min(runs[config]) - io, 1e-12) / a.points * 1e9
                 spread = (max(differences) - min(differences)) / a.points * 1e9
+                per_inproc = max(min(inproc[config]) - min(io_inproc), 1e-12) / a.points * 1e9
                 module = ",,"
                 if libbrdf is not None and method == "auto":  # the module has no asf-method keyword
                     kwargs = dict(sigma_s=s["sigma_s"], lc=s["lc"], wavelength=s["wavelength"], tolerance=float(tol))
@@ -146,7 +154,8 @@ def main():
                         cpu, wall = min(cpu, time.process_time() - c0), min(wall, time.perf_counter() - w0)
                     per_cpu, per_wall = cpu / a.points * 1e9, wall / a.points * 1e9
                     module = f"{per_cpu:.1f},{per_wall:.1f},{per_np / per_cpu:.2f}"
-                print(f"{name},{model},{tol},{method},{per_np:.1f},{per_io:.1f},{per_cli:.1f},{spread:.1f},{per_np / per_cli:.2f},{diff:.2e},"
+                print(f"{name},{model},{tol},{method},{per_np:.1f},{per_io:.1f},{per_cli:.1f},{spread:.1f},{per_np / per_cli:.2f},"
+                      f"{per_inproc:.1f},{per_np / per_inproc:.2f},{diff:.2e},"
                       f"{numpy_error:.2e},{module}")
                 sys.stdout.flush()
 
