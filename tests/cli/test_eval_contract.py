@@ -146,6 +146,23 @@ class EvalValues(unittest.TestCase):
         for k in self.values("k", [(0.0, 0, 0), (45.0, 0, 0), (85.0, 0, 0)]):
             self.assertGreaterEqual(k, 1.0)
 
+    def test_asf_methods_agree_within_the_tolerance(self):
+        # auto (the kernel table, certified 1e-6) and the series alone: both within 1e-6 of the
+        # converged series, so within 2e-6 of each other; and they are different methods.
+        points = [(10, 12, 180), (30, 50, 20), (60, 70, 170), (80, 5, 90), (45, 45, 0)]
+        auto = self.values("asf", points)
+        series = self.values("asf", points, extra=["--asf-method", "series"])
+        for a, b in zip(auto, series):
+            self.assertAlmostEqual(a / b, 1.0, delta=2e-6)
+        self.assertTrue(any(a != b for a, b in zip(auto, series)), "--asf-method series must not use the table")
+
+    def test_timing_goes_to_stderr_and_leaves_stdout_alone(self):
+        args = ["--model", "mbk"] + SURFACE + ["--at", "10,12,180", "--at", "30,50,20"]
+        rc, timed, err = run(args + ["--timing"])
+        self.assertEqual(rc, 0, err)
+        self.assertEqual(timed, run(args)[1])
+        self.assertRegex(err, r"^brdf eval: set-up [0-9.e+-]+ s CPU; 2 evaluations [0-9.e+-]+ s CPU \([0-9.e+-]+ ns each\)\n$")
+
 
 class EvalErrors(unittest.TestCase):
     """Exit status 2, empty stdout, one stderr line naming the parameter."""
@@ -193,6 +210,9 @@ class EvalErrors(unittest.TestCase):
         # An angle out of range inside a file is reported with its line too.
         line = self.expect_error(["--model", "mbk"] + SURFACE + ["--queries", "-"], r"theta_s", stdin="10,10,180\n10,91,0\n")
         self.assertRegex(line, r"line 2\b")
+
+    def test_unknown_asf_method(self):
+        self.expect_error(["--model", "asf"] + SURFACE + ["--asf-method", "table", "--at", "10,10,180"], r"asf-method.*auto\|series")
 
     def test_unreadable_queries_file(self):
         self.expect_error(["--model", "mbk"] + SURFACE + ["--queries", "/nonexistent/q.csv"], r"queries")
