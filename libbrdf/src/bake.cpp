@@ -403,13 +403,23 @@ std::vector<ScatterAngles> random_table_geometries(LutLayout layout, int count, 
   return out;
 }
 
-LutError measure_lut_error(const Lut& lut, const std::vector<Model>& models, int samples, double floor_fraction,
+LutError measure_lut_error(const Lut& lut, const std::vector<Model>& channel_models, int samples, double floor_fraction,
                            std::uint64_t seed, double theta_limit_deg) {
-  if (static_cast<int>(models.size()) != lut.channels())
+  if (static_cast<int>(channel_models.size()) != lut.channels())
     throw InvalidArgument("models", "one model per channel is needed (" + std::to_string(lut.channels()) + ")");
   if (samples < 1) throw InvalidArgument("error-samples", "must be >= 1");
   if (!(theta_limit_deg > 0.0 && theta_limit_deg <= 90.0))
     throw InvalidArgument("error-theta-limit", "must be in (0, 90] degrees");
+  // The reference is the full series (tolerance 0: no closed form, no kernel table), so that a
+  // table that itself evaluates Sigma from the kernel table (the kernel layout) is not measured
+  // against that same table: the error stated is against the series. K comes from the model's
+  // K table either way (same surface: reused, not rebuilt).
+  std::vector<Model> models;
+  for (const Model& m : channel_models) {
+    ModelParameters exact = m.parameters();
+    exact.tolerance = 0.0;
+    models.emplace_back(m.kind(), exact);
+  }
   const double theta_limit = degrees_to_radians(theta_limit_deg);
   auto inside = [theta_limit](const ScatterAngles& a) { return a.theta_i <= theta_limit && a.theta_s <= theta_limit; };
   const int channels = lut.channels();
