@@ -27,6 +27,10 @@ SHORT_VARIANT = {"auto regime tol 1e-6 (default: kernel table)": "auto 1e-6", "a
                  "auto regime tol 1e-3": "auto 1e-3", "series tol 1e-6 (--asf-method series)": "series 1e-6",
                  "series SIMD tol 1e-6 (--asf-method series)": "series 1e-6",
                  "kernel table tol 1e-6 (default)": "table 1e-6",
+                 "batch: series in lanes tol 1e-6": "series lanes 1e-6",
+                 "batch: kernel table in lanes tol 1e-6 (default)": "table lanes 1e-6",
+                 "series strided scalar (landed method; tol 0)": "landed",
+                 "series SIMD tol 0 (1e-14 truncation)": "series 1e-14",
                  "series strided (tol 0)": "strided", "closed form eq. 14": "", "closed form eq. 15": "",
                  "k-mode tis (vs plane)": "K tis", "default": "", "reference": "ref"}
 
