@@ -120,9 +120,13 @@ TEST(KernelTable, EmbeddedIsTheComputedTableBitForBit) {
   EXPECT_LT(table.build_seconds(), 0.01) << "an embedded table costs a process nothing to start";
   const std::vector<double> computed = KernelTable::compute_nodes();
   ASSERT_EQ(computed.size(), table.value_count());
-  std::size_t differing = 0;
-  for (std::size_t k = 0; k < computed.size(); ++k) differing += std::memcmp(&computed[k], table.nodes() + k, sizeof(double)) != 0;
+  std::size_t differing = 0, non_finite = 0;
+  for (std::size_t k = 0; k < computed.size(); ++k) {
+    differing += std::memcmp(&computed[k], table.nodes() + k, sizeof(double)) != 0;
+    non_finite += !std::isfinite(table.nodes()[k]);
+  }
   EXPECT_EQ(differing, 0u) << "of " << computed.size() << " node values";
+  EXPECT_EQ(non_finite, 0u) << "ln Sigma and its derivatives are finite at every node";
 }
 
 TEST(KernelTable, DomainEdges) {
