@@ -20,7 +20,7 @@ cancelled), cli_spread_ns (max - min of that difference over the repeats: how fa
 speedup (numpy / cli), cli_inproc_ns (the same difference from `brdf eval --timing`: the CPU time of the
 batch call itself, best of the repeats, asf or mbk minus g: no CSV I/O to cancel, so ~1 ns precise where
 cli_ns is only to within its spread), speedup_inproc (numpy / cli_inproc), max_rel_err (CLI asf against a converged reference series, the first 20000
-points), numpy_max_rel_err (the timed numpy script against the same reference), and, when the Python module imports
+points; mbk against brdf's own K and Qbar times that series), numpy_max_rel_err (the timed numpy script against the same reference), and, when the Python module imports
 (PYTHONPATH=build/python), the same batch API without CSV I/O: module_cpu_ns (all threads),
 module_wall_ns, module_speedup_cpu (numpy CPU / module CPU). `brdf eval` reads with std::from_chars and
 writes with std::to_chars: ~0.6-0.9 us of I/O per query (was ~2.4 us with strtod/printf), and the
@@ -115,6 +115,18 @@ def main():
             check = slice(0, min(a.points, 20000))  # the converged reference on the first points
             exact = reference_asf(ti[check], ts[check], ps[check], **s)
             keep = exact > 1e-300
+            # mbk = K Qbar A (eq. 11 x Qbar): its reference multiplies the converged A by brdf's own K and
+            # Qbar (`--model k`, `--model q` at the same points), so that the ASF is what is checked.
+            mbk_exact = None
+            if "mbk" in a.models:
+                check_path = os.path.join(tmp, "check.csv")
+                np.savetxt(check_path, deg[check], delimiter=",", fmt="%.17g")
+                factors = []
+                for factor in ("k", "q"):
+                    out = subprocess.run([a.brdf, "eval", "--model", factor, *surface, "--n", "1.5", "--k", "1",
+                                          "--queries", check_path], check=True, stdout=subprocess.PIPE, text=True).stdout
+                    factors.append(np.loadtxt(out.splitlines()[1:], delimiter=",")[:, 3])
+                mbk_exact = factors[0] * factors[1] * exact
             numpy_error = float(np.max(np.abs(ref[check][keep] - exact[keep]) / exact[keep]))
             def args(model, tol, method):
                 extra = ["--n", "1.5", "--k", "1"] if model != "asf" else []
@@ -134,7 +146,8 @@ def main():
             for model, tol, method in configs:
                 config = (model, tol, method)
                 vals = np.loadtxt(outputs[config].splitlines()[1:], delimiter=",")[:, 3][check]
-                diff = float(np.max(np.abs(vals[keep] - exact[keep]) / exact[keep])) if model == "asf" else float("nan")
+                ref = exact if model == "asf" else mbk_exact
+                diff = float(np.max(np.abs(vals[keep] - ref[keep]) / ref[keep]))
                 differences = [t - i for t, i in zip(runs[config], io_runs)]
                 per_np, per_io = best_np / a.points * 1e9, io / a.points * 1e9
                 per_cli = max(min(runs[config]) - io, 1e-12) / a.points * 1e9
