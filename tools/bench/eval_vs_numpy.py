@@ -30,6 +30,9 @@ spread of the cancelled difference 50-300 ns at 5e5 points on a loaded two-core 
 import argparse, math, os, re, resource, subprocess, sys, tempfile, time
 import numpy as np
 
+INDEX = dict(n=1.5, k=1.0)  # mbk's complex index (the ASF alone needs none)
+INDEX_ARGS = ["--n", str(INDEX["n"]), "--k", str(INDEX["k"])]
+
 SURFACES = {  # the surfaces: lambda = 0.5 um, l_c = 2 um
     "polished": dict(sigma_s=0.005, lc=2.0, wavelength=0.5),
     "intermediate": dict(sigma_s=0.1, lc=2.0, wavelength=0.5),
@@ -103,6 +106,9 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "q.csv")
         np.savetxt(path, deg, delimiter=",", fmt="%.17g")
+        check = slice(0, min(a.points, 20000))  # the converged reference on the first points
+        check_path = os.path.join(tmp, "check.csv")  # those points alone, for mbk's K and Qbar
+        np.savetxt(check_path, deg[check], delimiter=",", fmt="%.17g")
         configs = [(m, t, "auto") for m in a.models for t in a.tolerance if "auto" in a.methods]
         configs += [(m, "1e-6", "series") for m in a.models if "series" in a.methods]
         for name, s in SURFACES.items():
@@ -112,24 +118,21 @@ def main():
                 t0 = time.process_time()
                 ref = numpy_asf(ti, ts, ps, **s)
                 best_np = min(best_np, time.process_time() - t0)
-            check = slice(0, min(a.points, 20000))  # the converged reference on the first points
             exact = reference_asf(ti[check], ts[check], ps[check], **s)
             keep = exact > 1e-300
             # mbk = K Qbar A (eq. 11 x Qbar): its reference multiplies the converged A by brdf's own K and
             # Qbar (`--model k`, `--model q` at the same points), so that the ASF is what is checked.
             mbk_exact = None
             if "mbk" in a.models:
-                check_path = os.path.join(tmp, "check.csv")
-                np.savetxt(check_path, deg[check], delimiter=",", fmt="%.17g")
                 factors = []
                 for factor in ("k", "q"):
-                    out = subprocess.run([a.brdf, "eval", "--model", factor, *surface, "--n", "1.5", "--k", "1",
+                    out = subprocess.run([a.brdf, "eval", "--model", factor, *surface, *INDEX_ARGS,
                                           "--queries", check_path], check=True, stdout=subprocess.PIPE, text=True).stdout
                     factors.append(np.loadtxt(out.splitlines()[1:], delimiter=",")[:, 3])
                 mbk_exact = factors[0] * factors[1] * exact
             numpy_error = float(np.max(np.abs(ref[check][keep] - exact[keep]) / exact[keep]))
             def args(model, tol, method):
-                extra = ["--n", "1.5", "--k", "1"] if model != "asf" else []
+                extra = INDEX_ARGS if model != "asf" else []
                 return ["--model", model, *surface, *extra, "--tolerance", tol, "--asf-method", method]
             io_runs, io_inproc, runs, inproc, outputs = [], [], {c: [] for c in configs}, {c: [] for c in configs}, {}
             for r in range(a.repeat):  # interleaved: the I/O run, then every configuration
@@ -157,7 +160,7 @@ def main():
                 if libbrdf is not None and method == "auto":  # the module has no asf-method keyword
                     kwargs = dict(sigma_s=s["sigma_s"], lc=s["lc"], wavelength=s["wavelength"], tolerance=float(tol))
                     if model != "asf":
-                        kwargs.update(n=1.5, k=1.0)
+                        kwargs.update(INDEX)
                     m = libbrdf.Model(model, **kwargs)
                     m(deg[:10, 0], deg[:10, 1], deg[:10, 2])  # one-time set-up (kernel table) outside the timing
                     cpu = wall = math.inf
