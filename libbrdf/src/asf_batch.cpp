@@ -402,8 +402,7 @@ void asf_auto_batch(const double* g, const double* c, std::size_t count, double 
   SeriesOptions series = options;
   series.relative_tolerance = detail::auto_series_truncation(tolerance, options.relative_tolerance);
   const bool lanes = series.relative_tolerance >= detail::kLaneMinTolerance;
-  const bool use_table = options.allow_kernel_table && tolerance >= kKernelTableCertifiedError;
-  const KernelTable* table = use_table ? &KernelTable::instance() : nullptr;
+  const KernelTable* table = detail::kernel_table_allowed(tolerance, options.allow_kernel_table) ? &KernelTable::instance() : nullptr;
   constexpr std::size_t kChunk = 1024;
   alignas(64) double table_g[kChunk], table_c[kChunk], table_sigma[kChunk], series_g[kChunk], series_c[kChunk],
       series_sigma[kChunk];

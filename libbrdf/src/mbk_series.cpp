@@ -297,7 +297,7 @@ AsfRegime asf_regime(const AsfArguments& args, double tolerance, bool allow_tabl
   // The fastest form whose error bound meets the tolerance: the kernel table (its certified error,
   // kernel_table.h; in lanes it is faster than the scalar closed forms), the closed forms (their
   // leading-order error estimates), else the series.
-  if (allow_table && tolerance >= kKernelTableCertifiedError && KernelTable::instance().contains(args.g, args.c))
+  if (detail::kernel_table_allowed(tolerance, allow_table) && KernelTable::instance().contains(args.g, args.c))
     return AsfRegime::table;
   if (tolerance > 0.0 && args.g > 0.0 && args.g < 0.5 && polished_error_estimate(args.g, args.c) < tolerance)
     return AsfRegime::polished;

@@ -3,6 +3,8 @@
 // window of terms is, its stride, the truncation tolerance) is made by mbk_series.cpp.
 #include <cstddef>
 
+#include "libbrdf/kernel_table.h"
+
 namespace libbrdf::detail {
 
 struct SeriesPlan {
@@ -27,6 +29,13 @@ StrideRule stride_rule(double relative_tolerance);
 // tolerance 0: the options' own.
 inline double auto_series_truncation(double tolerance, double options_tolerance) {
   return tolerance > 0.0 && 0.1 * tolerance > options_tolerance ? 0.1 * tolerance : options_tolerance;
+}
+
+// asf_auto's first choice, also asf_auto_batch's: the kernel table, where the options allow it
+// (SeriesOptions::allow_kernel_table) and its certified error meets the tolerance -- for queries
+// inside its domain (KernelTable::contains).
+inline bool kernel_table_allowed(double tolerance, bool allow_kernel_table) {
+  return allow_kernel_table && tolerance >= kKernelTableCertifiedError;
 }
 
 struct SeriesBlockStats {
