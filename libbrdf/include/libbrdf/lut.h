@@ -47,7 +47,8 @@
 //                each axis, end nodes repeated: trilinear left 0.12-0.16% max error, cubic 1.4e-4);
 //                Sigma(g, c) from the universal kernel table
 //                (kernel_table.h, not stored in the file: the same for every material, computed
-//                at libbrdf's build and carried by the library; other readers recompute it), g = (2 pi sigma_s/lambda)^2 (N.L + N.V)^2 and
+//                at libbrdf's build and carried by the library; other readers recompute it),
+//                g = (2 pi sigma_s/lambda)^2 (N.L + N.V)^2 and
 //                c = pi^2 (l_c/lambda)^2 eta_r^2 from the per-channel sigma_s/lambda and
 //                l_c/lambda (Lut::kernel_sigma_over_lambda, kernel_lc_over_lambda; file header
 //                attributes libbrdf:kernel_sigma_over_lambda and libbrdf:kernel_lc_over_lambda).
