@@ -215,12 +215,9 @@ void RenormalizationSpan(const KTableView& table, const ScatterGeometry* geos, s
   const V last_cell = hn::Set(d, double(table.nodes - 2)), scale = hn::Set(d, table.scale);
   const V k_sigma = hn::Set(d, 2.0 * 3.14159265358979323846 * table.sigma_over_lambda);
   ForEachBlock(d, geos, count, out, [&](const ScatterGeometry* g) {
-    const V ci = Field(d, g, kCosI, offsets), si = Field(d, g, kSinI, offsets);
-    // theta_i = atan(sin/cos) (cos > 0 above the horizon), then the node coordinate
-    // y = (2/pi) asin(theta_i / (pi/2)) of renormalization.cpp.
-    const V theta = hn::Atan(d, hn::Min(hn::Div(si, ci), hn::Set(d, 1e300)));
-    const V fraction = hn::Min(one, hn::Max(zero, hn::Mul(theta, hn::Set(d, 2.0 / 3.14159265358979323846))));
-    const V x = hn::Mul(hn::Mul(hn::Asin(d, fraction), hn::Set(d, 2.0 / 3.14159265358979323846)), scale);
+    const V ci = Field(d, g, kCosI, offsets);
+    // The node coordinate u = 1 - sqrt(cos theta_i) of renormalization.cpp, in node units.
+    const V x = hn::Mul(hn::Sub(one, hn::Sqrt(hn::Min(one, hn::Max(zero, ci)))), scale);
     const V cell = hn::Min(hn::Floor(x), last_cell);
     const V t = hn::Sub(x, cell), t2 = hn::Mul(t, t), t3 = hn::Mul(t2, t);
     const auto i0 = hn::ConvertTo(di, cell), i1 = hn::Add(i0, hn::Set(di, 1));

@@ -33,11 +33,11 @@ struct KTableView {
   const double* outside_fraction;
   const double* outside_fraction_slope;
   int nodes;
-  double scale;              // node index per unit of the node coordinate y
+  double scale;              // node index per unit of the node coordinate u = 1 - sqrt(cos theta_i)
   double sigma_over_lambda;  // of the surface K is computed for
   bool tis;
 };
-// K(theta_i) at each geometry, as RenormalizationTable::operator() with theta_i = atan(sin/cos).
+// K(theta_i) at each geometry, as RenormalizationTable::operator() (the node coordinate from cos theta_i).
 void renormalization_span(const KTableView& table, const ScatterGeometry* geos, std::size_t count, double* out);
 
 }  // namespace libbrdf::detail

@@ -176,28 +176,35 @@ RenormalizationParts renormalization_direct(const Surface& true_surface, double 
 }
 
 namespace {
-// Node placement: uniform in y in [0, 1] with theta_i = (pi/2) sin(pi y / 2). Near grazing the
-// spacing shrinks like sqrt(90 deg - theta_i), which resolves a narrow lobe crossing the unit
-// circle (structure over ~sqrt(2 / (pi l_c/lambda)) rad below 90 deg); the map is odd in y, so the
-// tabulated functions, even in theta_i, stay even in y.
-double node_angle(double y) { return 0.5 * kPi * std::sin(0.5 * kPi * y); }
-double node_coordinate(double theta_i) { return (2.0 / kPi) * std::asin(std::clamp(theta_i / (0.5 * kPi), 0.0, 1.0)); }
+// Node placement: uniform in the node coordinate u = 1 - sqrt(cos theta_i) in [0, 1], which
+// needs no inverse trigonometry (the span lookup takes cos theta_i from the geometry: one square
+// root per query instead of an arctangent and an arcsine). Near grazing 1 - u = sqrt(cos theta_i)
+// ~ sqrt(90 deg - theta_i): the spacing shrinks like that square root, which resolves a narrow lobe
+// crossing the unit circle (structure over ~sqrt(2 / (pi l_c/lambda)) rad below 90 deg). Near
+// normal incidence u ~ theta_i^2 / 4, and the tabulated factors, even in theta_i, are smooth
+// functions of theta_i^2, hence of u (one-sided slopes there: no mirror symmetry in u).
+double node_angle(double u) { return std::acos((1.0 - u) * (1.0 - u)); }
+double node_coordinate(double theta_i) { return 1.0 - std::sqrt(std::clamp(std::cos(theta_i), 0.0, 1.0)); }
 
-// Cubic Hermite slopes (per unit of node index) with fourth-order central differences, one-sided
-// at the grazing end; at y = 0 the functions are even, so the nodes are mirrored there.
+// Cubic Hermite slopes (per unit of node index) with fourth-order central differences, and
+// one-sided fourth-order differences at the two nodes nearest either end.
 std::vector<double> hermite_slopes(const std::vector<double>& f) {
   const int n = static_cast<int>(f.size());
-  auto at = [&](int i) { return i < 0 ? f[-i] : f[i]; };  // even extension below theta_i = 0
   std::vector<double> slope(n);
   for (int i = 0; i < n; ++i) {
-    if (i + 2 < n) {
-      slope[i] = (-at(i + 2) + 8.0 * at(i + 1) - 8.0 * at(i - 1) + at(i - 2)) / 12.0;
-    } else {  // one-sided fourth-order differences at the last two nodes
-      const int k = n - 1 - i;  // 0 at the last node, 1 at the one before
-      const double f0 = f[n - 1], f1 = f[n - 2], f2 = f[n - 3], f3 = f[n - 4], f4 = f[n - 5];
-      slope[i] = k == 0 ? (25.0 * f0 - 48.0 * f1 + 36.0 * f2 - 16.0 * f3 + 3.0 * f4) / 12.0
-                        : (3.0 * f0 + 10.0 * f1 - 18.0 * f2 + 6.0 * f3 - f4) / 12.0;
+    if (i >= 2 && i + 2 < n) {
+      slope[i] = (-f[i + 2] + 8.0 * f[i + 1] - 8.0 * f[i - 1] + f[i - 2]) / 12.0;
+      continue;
     }
+    // At the start (i = 0, 1) the nodes i, i+1, ... forward; at the end, i, i-1, ... backward
+    // (the backward slope is the forward formula's with its sign turned).
+    const bool start = i < 2;
+    const int direction = start ? 1 : -1, k = start ? i : n - 1 - i;  // k: 0 at the end node, 1 beside it
+    const int base = start ? 0 : n - 1;
+    auto at = [&](int j) { return f[base + direction * j]; };
+    const double one_sided = k == 0 ? (-25.0 * at(0) + 48.0 * at(1) - 36.0 * at(2) + 16.0 * at(3) - 3.0 * at(4)) / 12.0
+                                    : (-3.0 * at(0) - 10.0 * at(1) + 18.0 * at(2) - 6.0 * at(3) + at(4)) / 12.0;
+    slope[i] = direction * one_sided;
   }
   return slope;
 }
@@ -212,10 +219,10 @@ double hermite(const std::vector<double>& f, const std::vector<double>& slope, d
 
 int RenormalizationTable::automatic_node_count(const Surface& surface) {
   // The lobe (width 1/(pi l_c/lambda) in direction cosines) crosses the unit circle within
-  // ~sqrt(2 width) rad of 90 deg, i.e. within 1 - y ~ sqrt(16 sqrt(2 width) / pi^3) of the last
-  // node; 24 nodes per that distance keep the interpolation error ~1e-5 (l_c/lambda = 100, 1000).
+  // ~sqrt(2 width) rad of 90 deg, i.e. within 1 - u = sqrt(cos theta_i) ~ (2 width)^(1/4) of the
+  // last node; 24 nodes per that distance keep the interpolation error ~1e-5 (l_c/lambda = 100, 1000).
   const double width = 1.0 / (kPi * surface.lc_over_lambda());
-  const double grazing_band = std::sqrt(16.0 * std::sqrt(2.0 * width) / (kPi * kPi * kPi));
+  const double grazing_band = std::sqrt(std::sqrt(2.0 * width));
   return static_cast<int>(std::clamp(std::ceil(24.0 / grazing_band) + 1.0, double(kDefaultNodes), 4001.0));
 }
 

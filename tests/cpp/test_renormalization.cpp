@@ -227,7 +227,7 @@ TEST(RenormalizationTable, NarrowLobesGetMoreNodes) {
 }  // namespace
 
 namespace {
-// The span lookup (SIMD arctangent/arcsine for the node coordinate, same Hermite cubic) against
+// The span lookup (node coordinate from the geometry's cos theta_i, same Hermite cubic) against
 // operator() at theta_i = atan2(sin, cos) of each geometry, from normal incidence to 0.0001 deg
 // below grazing, both modes, a narrow-lobe table (l_c/lambda = 1e3: more nodes) and a mirror.
 TEST(RenormalizationTable, SpanLookupMatchesScalarLookup) {

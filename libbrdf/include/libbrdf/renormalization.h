@@ -45,19 +45,23 @@ struct RenormalizationQuadrature {
 RenormalizationParts renormalization_direct(const Surface& surface, double theta_i_rad, KMode mode,
                                             const RenormalizationQuadrature& quadrature = {});
 
-// K(ti) tabulated over [0, 90] deg on nodes uniform in y, theta_i = 90 deg sin(90 deg y), which
-// are 1.6 deg apart at normal incidence and close up near grazing (the last interval of 91 nodes
-// is 0.014 deg). K is steep near grazing (K - 1 and
+// K(ti) tabulated over [0, 90] deg on nodes uniform in u = 1 - sqrt(cos ti), which are 12 deg
+// apart at normal incidence (where the factors below are smooth in ti^2 ~ 4u) and close up like
+// sqrt(90 deg - ti) near grazing (the last interval of 91 nodes is 0.007 deg); the coordinate needs
+// no inverse trigonometry. K is steep near grazing (K - 1 and
 // K_tis vanish like cos^2 ti at 90 deg), so the table interpolates the smooth factors of K instead,
 // ln D(ti) and the outside fraction r(ti) = outside / (1 - e^-g1), by cubic Hermite with
 // fourth-order slopes, and rebuilds K with the exact g1(ti) and g(ti, ti). Build once per
 // (surface, mode); evaluation is O(1).
 // Accuracy (tests/cpp/test_renormalization.cpp, RenormalizationTable.MatchesDirectBetweenNodesTo1e5,
 // off-node angles over [0, 89.5] deg) measured max relative error vs renormalization_direct:
-// <= 1.1e-7 (plane) and 6e-7 (tis) for polished (sigma/lambda = 0.01, l_c/lambda = 5),
-// intermediate (0.1, 2) and rough (0.5, 3) surfaces, 2.8e-6 for l_c/lambda = 1e3; tis-mode figures
+// <= 1.0e-7 (plane) and 4.4e-7 (tis) for polished (sigma/lambda = 0.01, l_c/lambda = 5),
+// intermediate (0.1, 2) and rough (0.5, 3) surfaces, 2.9e-6 for l_c/lambda = 1e3; tis-mode figures
 // are at the direct quadrature's own noise. (A uniform 1-deg table interpolating K itself had
-// 4e-4 in plane mode and 20% in tis mode at 89.25 deg.)
+// 4e-4 in plane mode and 20% in tis mode at 89.25 deg. The earlier node map, uniform in
+// y = (2/pi) asin(ti / 90 deg), measured the same to within a factor 2 either way with 1.4x the
+// nodes for narrow lobes, and cost an arctangent and an arcsine per span query: 14.5 against
+// 8.8 ns per query for the span, one core.)
 class RenormalizationTable {
  public:
   static constexpr int kDefaultNodes = 91;  // the fewest nodes the automatic count uses
@@ -68,10 +72,9 @@ class RenormalizationTable {
   RenormalizationTable(const Surface& surface, KMode mode, int nodes = 0);
 
   double operator()(double theta_i_rad) const;
-  // k[j] = (*this)(theta_i of geos[j]) for a span, in SIMD (angular_simd.cpp): theta_i and the node
-  // coordinate from vector arctangent and arcsine (2 ulp) instead of atan2 + asin per call, the
-  // same Hermite cubic, and cos theta_i taken from the geometry. Agrees with operator() to
-  // <= 1e-13 relative (tests/cpp/test_renormalization.cpp).
+  // k[j] = (*this)(theta_i of geos[j]) for a span, in SIMD (angular_simd.cpp): the node coordinate
+  // 1 - sqrt(cos theta_i) from the geometry's cos theta_i (no inverse trigonometry), the same
+  // Hermite cubic. Agrees with operator() to <= 1e-13 relative (tests/cpp/test_renormalization.cpp).
   void at_geometries(const ScatterGeometry* geos, std::size_t count, double* k) const;
   // The nodes (radians, from 0 to pi/2) and K there.
   const std::vector<double>& node_angles() const { return angles_; }
@@ -81,7 +84,7 @@ class RenormalizationTable {
  private:
   KMode mode_;
   Surface surface_;
-  double scale_ = 1.0;  // node index per unit of the node coordinate y
+  double scale_ = 1.0;  // node index per unit of the node coordinate u = 1 - sqrt(cos theta_i)
   std::vector<double> angles_, k_;
   std::vector<double> log_disk_, log_disk_slope_;
   std::vector<double> outside_fraction_, outside_fraction_slope_;
