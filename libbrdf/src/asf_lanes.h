@@ -24,9 +24,11 @@ inline constexpr double kLaneMaxStride = 16.0;
 std::size_t series_query_lanes(const double* g, const double* c, std::size_t count, double relative_tolerance,
                                double* sigma, std::uint32_t* rejected);
 
-// The kernel table's bicubic Hermite lookup (kernel_table.h) in lanes: sigma[k] = exp(F(ln g, z)).
-// nodes: 4 doubles per node (F, F_x, F_z, F_xz), node (i, j) at 4 (i nz + j); every (g, c) inside.
-void kernel_table_lanes(const double* nodes, int nx, int nz, double x_min, double dx, double dz, const double* g,
-                        const double* c, std::size_t count, double* sigma);
+// The kernel table's bicubic Hermite lookup (kernel_table.h) in lanes: out[k] = scale exp(F(ln g, z))
+// for every query inside the table (KernelTable::contains, the same test lane by lane). Returns the
+// number of queries outside, their indices in outside[] (out[k] is unspecified there: the caller
+// evaluates them otherwise). nodes: 4 doubles per node (F, F_x, F_z, F_xz), node (i, j) at 4 (i nz + j).
+std::size_t kernel_table_lanes(const double* nodes, int nx, int nz, double x_min, double dx, double dz, const double* g,
+                               const double* c, std::size_t count, double scale, double* out, std::uint32_t* outside);
 
 }  // namespace libbrdf::detail

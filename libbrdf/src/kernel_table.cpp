@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 
 #include "asf_lanes.h"
@@ -114,8 +115,19 @@ double KernelTable::sigma(double g, double c) const {
   return std::exp(f);
 }
 
+std::size_t KernelTable::scaled_sigma_inside(const double* g, const double* c, std::size_t count, double scale, double* out,
+                                             std::uint32_t* outside) const {
+  return detail::kernel_table_lanes(nodes_, nx_, nz_, x_min_, dx_, dz_, g, c, count, scale, out, outside);
+}
+
 void KernelTable::sigma_many(const double* g, const double* c, std::size_t count, double* sigma) const {
-  detail::kernel_table_lanes(nodes_, nx_, nz_, x_min_, dx_, dz_, g, c, count, sigma);
+  constexpr std::size_t kChunk = 1024;
+  std::uint32_t outside[kChunk];
+  for (std::size_t begin = 0; begin < count; begin += kChunk) {
+    const std::size_t n = std::min(kChunk, count - begin);
+    const std::size_t left = scaled_sigma_inside(g + begin, c + begin, n, 1.0, sigma + begin, outside);
+    for (std::size_t j = 0; j < left; ++j) sigma[begin + outside[j]] = std::numeric_limits<double>::quiet_NaN();
+  }
 }
 
 }  // namespace libbrdf

@@ -4,8 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <iostream>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -176,6 +178,42 @@ TEST(KernelTable, SigmaManyEqualsSigma) {
     const double one = table.sigma(g[k], c[k]);
     EXPECT_NEAR(many[k], one, 1e-12 * one) << "g=" << g[k] << " c=" << c[k];
   }
+}
+
+// The lane kernel's own domain test is contains(): queries just outside every edge, NaN and Inf
+// are handed back (exactly those, in order), the others get scale x sigma; sigma_many gives NaN
+// outside.
+TEST(KernelTable, ScaledLookupHandsBackExactlyTheQueriesOutside) {
+  const KernelTable& table = KernelTable::instance();
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  const double z2 = kKernelZMax * kKernelZMax;
+  std::vector<double> g, c;
+  auto add = [&](double gg, double cc) { g.push_back(gg), c.push_back(cc); };
+  for (int k = 0; k < 3; ++k) {  // each edge on either side, amid points inside
+    add(kKernelGMin, 1.0), add(std::nextafter(kKernelGMin, 0.0), 1.0);
+    add(kKernelGMax, 1.0), add(std::nextafter(kKernelGMax, inf), 1.0);
+    add(2.0, 0.0), add(2.0, -1e-300);
+    add(2.0, z2 * 3.0), add(2.0, std::nextafter(z2 * 3.0, inf));
+    add(nan, 1.0), add(1.0, nan), add(inf, 1.0), add(1.0, inf), add(0.3, 20.0);
+  }
+  const double scale = 3.5;
+  std::vector<double> out(g.size(), -1.0), many(g.size());
+  std::vector<std::uint32_t> outside(g.size());
+  const std::size_t count = table.scaled_sigma_inside(g.data(), c.data(), g.size(), scale, out.data(), outside.data());
+  table.sigma_many(g.data(), c.data(), g.size(), many.data());
+  std::vector<std::uint32_t> expected;
+  for (std::size_t k = 0; k < g.size(); ++k) {
+    if (!table.contains(g[k], c[k])) {
+      expected.push_back(static_cast<std::uint32_t>(k));
+      EXPECT_TRUE(std::isnan(many[k])) << k;
+      continue;
+    }
+    const double one = table.sigma(g[k], c[k]);
+    EXPECT_NEAR(out[k], scale * one, 1e-12 * scale * one) << "g=" << g[k] << " c=" << c[k];
+    EXPECT_NEAR(many[k], one, 1e-12 * one) << k;
+  }
+  EXPECT_EQ(expected.size(), 3u * 8u);  // the construction above: 8 of 13 per round outside
+  EXPECT_EQ(std::vector<std::uint32_t>(outside.begin(), outside.begin() + static_cast<std::ptrdiff_t>(count)), expected);
 }
 
 }  // namespace

@@ -21,6 +21,7 @@
 // Each node holds F = ln Sigma and its exact derivatives F_x, F_z, F_xz (from moments of the
 // series, not finite differences); lookups are bicubic Hermite in (x, z), then exp.
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace libbrdf {
@@ -57,8 +58,13 @@ class KernelTable {
   // Sigma(g, c) by bicubic Hermite interpolation of ln Sigma; only for contains(g, c).
   double sigma(double g, double c) const;
   // sigma[k] = sigma(g[k], c[k]) for k < count, one query per SIMD lane (cell rows loaded per lane
-  // and transposed); the same interpolation up to rounding. Every (g[k], c[k]) must be inside.
+  // and transposed); the same interpolation up to rounding. NaN where not contains(g[k], c[k]).
   void sigma_many(const double* g, const double* c, std::size_t count, double* sigma) const;
+  // The same lookup for the queries inside, times `scale` (asf_auto_batch: the prefactor of eq. 11):
+  // out[k] = scale sigma_many's value where contains(g[k], c[k]). Returns the number of queries
+  // outside and their indices in outside[] (room for count; out[k] is unspecified there).
+  std::size_t scaled_sigma_inside(const double* g, const double* c, std::size_t count, double scale, double* out,
+                                  std::uint32_t* outside) const;
 
   int nx() const { return nx_; }
   int nz() const { return nz_; }
