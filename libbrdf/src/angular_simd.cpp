@@ -213,34 +213,24 @@ void RenormalizationSpan(const KTableView& table, const ScatterGeometry* geos, s
   const auto offsets = GeoOffsets(d);
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0), two = hn::Set(d, 2.0), three = hn::Set(d, 3.0);
   const V last_cell = hn::Set(d, double(table.nodes - 2)), scale = hn::Set(d, table.scale);
-  const V k_sigma = hn::Set(d, 2.0 * 3.14159265358979323846 * table.sigma_over_lambda);
+  const V base = hn::Set(d, table.base);
   ForEachBlock(d, geos, count, out, [&](const ScatterGeometry* g) {
-    const V ci = Field(d, g, kCosI, offsets);
+    const V ci = hn::Min(one, hn::Max(zero, Field(d, g, kCosI, offsets)));
     // The node coordinate u = 1 - sqrt(cos theta_i) of renormalization.cpp, in node units.
-    const V x = hn::Mul(hn::Sub(one, hn::Sqrt(hn::Min(one, hn::Max(zero, ci)))), scale);
+    const V x = hn::Mul(hn::Sub(one, hn::Sqrt(ci)), scale);
     const V cell = hn::Min(hn::Floor(x), last_cell);
     const V t = hn::Sub(x, cell), t2 = hn::Mul(t, t), t3 = hn::Mul(t2, t);
-    const auto i0 = hn::ConvertTo(di, cell), i1 = hn::Add(i0, hn::Set(di, 1));
-    // Cubic Hermite basis (as renormalization.cpp's hermite()).
+    // (q, q') of nodes j and j + 1 are the 4 doubles from 2 j on.
+    const auto at = hn::ShiftLeft<1>(hn::ConvertTo(di, cell));
+    auto value = [&](int e) { return hn::GatherIndex(d, table.dense + e, at); };
+    // Cubic Hermite basis (as RenormalizationTable::operator()).
     const V h00 = hn::Add(hn::Sub(hn::Mul(two, t3), hn::Mul(three, t2)), one);
     const V h10 = hn::Add(hn::Sub(t3, hn::Mul(two, t2)), t);
     const V h01 = hn::Add(hn::Mul(hn::Set(d, -2.0), t3), hn::Mul(three, t2));
     const V h11 = hn::Sub(t3, t2);
-    auto hermite = [&](const double* f, const double* slope) {
-      return hn::Add(hn::Add(hn::Add(hn::Mul(h00, hn::GatherIndex(d, f, i0)), hn::Mul(h10, hn::GatherIndex(d, slope, i0))),
-                             hn::Mul(h01, hn::GatherIndex(d, f, i1))),
-                     hn::Mul(h11, hn::GatherIndex(d, slope, i1)));
-    };
-    const V disk = hn::Exp(d, hermite(table.log_disk, table.log_disk_slope));
-    if (table.tis) {  // K_tis = (1 - e^-g(ti, ti)) / D
-      const V k = hn::Mul(k_sigma, hn::Add(ci, ci));
-      return hn::Div(hn::Sub(zero, hn::Expm1(d, hn::Sub(zero, hn::Mul(k, k)))), disk);
-    }
-    // plane: K = 1 + (1 - e^-g1) r / D, r >= 0 (eq. 13, renormalization.h).
-    const V outside = hn::Max(zero, hermite(table.outside_fraction, table.outside_fraction_slope));
-    const V k1 = hn::Mul(k_sigma, ci);
-    const V total1 = hn::Sub(zero, hn::Expm1(d, hn::Sub(zero, hn::Mul(k1, k1))));
-    return hn::Add(one, hn::Div(hn::Mul(total1, outside), disk));
+    const V q = hn::Add(hn::Add(hn::Add(hn::Mul(h00, value(0)), hn::Mul(h10, value(1))), hn::Mul(h01, value(2))),
+                        hn::Mul(h11, value(3)));
+    return hn::Add(base, hn::Mul(hn::Mul(ci, ci), hn::Max(zero, q)));
   });
 }
 

@@ -26,16 +26,13 @@ void stover_q_bar_span(double eps_re, double eps_im, const ScatterGeometry* geos
 // F(theta_d) (fresnel.h, fresnel_reflectance at geos[k].cos_theta_d).
 void fresnel_d_span(double eps_re, double eps_im, const ScatterGeometry* geos, std::size_t count, double* out);
 
-// The smooth factors of K (renormalization.h) on their nodes and what rebuilds K from them.
+// The dense grid of RenormalizationTable (renormalization.h): (q, dq per node index) interleaved
+// per node, uniform in u = 1 - sqrt(cos theta_i); K = base + cos^2 ti max(0, q).
 struct KTableView {
-  const double* log_disk;
-  const double* log_disk_slope;
-  const double* outside_fraction;
-  const double* outside_fraction_slope;
+  const double* dense;
   int nodes;
-  double scale;              // node index per unit of the node coordinate u = 1 - sqrt(cos theta_i)
-  double sigma_over_lambda;  // of the surface K is computed for
-  bool tis;
+  double scale;  // node index per unit of u
+  double base;   // 1 in plane mode, 0 in tis mode
 };
 // K(theta_i) at each geometry, as RenormalizationTable::operator() (the node coordinate from cos theta_i).
 void renormalization_span(const KTableView& table, const ScatterGeometry* geos, std::size_t count, double* out);

@@ -184,7 +184,6 @@ namespace {
 // normal incidence u ~ theta_i^2 / 4, and the tabulated factors, even in theta_i, are smooth
 // functions of theta_i^2, hence of u (one-sided slopes there: no mirror symmetry in u).
 double node_angle(double u) { return std::acos((1.0 - u) * (1.0 - u)); }
-double node_coordinate(double theta_i) { return 1.0 - std::sqrt(std::clamp(std::cos(theta_i), 0.0, 1.0)); }
 
 // Cubic Hermite slopes (per unit of node index) with fourth-order central differences, and
 // one-sided fourth-order differences at the two nodes nearest either end.
@@ -265,23 +264,54 @@ RenormalizationTable::RenormalizationTable(const Surface& true_surface, KMode mo
   outside_fraction_ = std::move(outside);
   log_disk_slope_ = hermite_slopes(log_disk_);
   outside_fraction_slope_ = hermite_slopes(outside_fraction_);
+  // The evaluation grid: q from the smooth factors at every dense node (the coarse nodes among
+  // them), Hermite slopes by the same fourth-order differences. q is smooth in u up to grazing.
+  const int refinement = std::max(kDenseRefinement, (kDenseMinNodes + nodes - 2) / (nodes - 1));
+  const int dense_nodes = refinement * (nodes - 1) + 1;
+  dense_scale_ = dense_nodes - 1;
+  std::vector<double> dense_q(dense_nodes);
+  for (int j = 0; j < dense_nodes; ++j) dense_q[j] = q_from_smooth_factors(j / dense_scale_);
+  const std::vector<double> dense_slope = hermite_slopes(dense_q);
+  dense_.resize(2 * static_cast<std::size_t>(dense_nodes));
+  for (int j = 0; j < dense_nodes; ++j) dense_[2 * j] = dense_q[j], dense_[2 * j + 1] = dense_slope[j];
   for (int i = 0; i < nodes; ++i) k_[i] = (*this)(angles_[i]);
+}
+
+namespace {
+// -expm1(-y) / y, -> 1 as y -> 0: the factor (1 - e^-g) / g of a g that vanishes at grazing.
+double one_minus_exp_ratio(double y) { return y == 0.0 ? 1.0 : -std::expm1(-y) / y; }
+}  // namespace
+
+double RenormalizationTable::q_from_smooth_factors(double u) const {
+  const double x = u * scale_;
+  const double disk = std::exp(hermite(log_disk_, log_disk_slope_, x));
+  const double ci2 = (1.0 - u) * (1.0 - u) * (1.0 - u) * (1.0 - u);  // cos^2 theta_i
+  const double k2 = roughness_g(surface_.sigma_over_lambda(), 1.0, 0.0);  // (2 pi sigma_s/lambda)^2, eq. 12
+  // tis: K = (1 - e^-g(ti, ti)) / D, g(ti, ti) = 4 k2 cos^2 ti.
+  if (mode_ == KMode::tis) return 4.0 * k2 * one_minus_exp_ratio(4.0 * k2 * ci2) / disk;
+  // plane: K - 1 = (1 - e^-g1) r / D, g1 = k2 cos^2 ti. r >= 0 by definition; at the foot of its
+  // rise (narrow lobes, far from grazing, r ~ 0) the cubic can dip below 0 by its interpolation
+  // error, which must not turn into K < 1 (eq. 13: K >= 1).
+  const double outside = std::max(0.0, hermite(outside_fraction_, outside_fraction_slope_, x));
+  return k2 * one_minus_exp_ratio(k2 * ci2) * outside / disk;
 }
 
 double RenormalizationTable::operator()(double theta_i) const {
   if (surface_.sigma_s_um == 0.0) return 1.0;
-  const double x = node_coordinate(theta_i) * scale_;
+  const double ci = std::clamp(std::cos(theta_i), 0.0, 1.0);
+  const double u = 1.0 - std::sqrt(ci);  // the node coordinate
   if (linear_only_) {
+    const double x = u * scale_;
     const int i = std::min(static_cast<int>(x), static_cast<int>(k_.size()) - 2);
     return k_[i] + (x - i) * (k_[i + 1] - k_[i]);
   }
-  const double disk = std::exp(hermite(log_disk_, log_disk_slope_, x));
-  const double ci = std::cos(theta_i);
-  if (mode_ == KMode::tis) return -std::expm1(-roughness_g(surface_.sigma_over_lambda(), ci, ci)) / disk;
-  // r >= 0 by definition; at the foot of its rise (narrow lobes, far from grazing, r ~ 0) the cubic
-  // can dip below 0 by its interpolation error, which must not turn into K < 1 (eq. 13: K >= 1).
-  const double outside = std::max(0.0, hermite(outside_fraction_, outside_fraction_slope_, x));
-  return 1.0 + -std::expm1(-roughness_g(surface_.sigma_over_lambda(), ci, 0.0)) * outside / disk;
+  const double x = u * dense_scale_;
+  const int j = std::min(static_cast<int>(x), static_cast<int>(dense_.size() / 2) - 2);
+  const double t = x - j, t2 = t * t, t3 = t2 * t;
+  const double h00 = 2 * t3 - 3 * t2 + 1, h10 = t3 - 2 * t2 + t, h01 = -2 * t3 + 3 * t2, h11 = t3 - t2;
+  const double* cell = &dense_[2 * static_cast<std::size_t>(j)];
+  const double q = std::max(0.0, h00 * cell[0] + h10 * cell[1] + h01 * cell[2] + h11 * cell[3]);
+  return (mode_ == KMode::plane ? 1.0 : 0.0) + ci * ci * q;
 }
 
 void RenormalizationTable::at_geometries(const ScatterGeometry* geos, std::size_t count, double* k) const {
@@ -289,9 +319,7 @@ void RenormalizationTable::at_geometries(const ScatterGeometry* geos, std::size_
     for (std::size_t j = 0; j < count; ++j) k[j] = (*this)(std::atan2(geos[j].sin_theta_i, geos[j].cos_theta_i));
     return;
   }
-  const detail::KTableView view{log_disk_.data(), log_disk_slope_.data(), outside_fraction_.data(),
-                                outside_fraction_slope_.data(), static_cast<int>(log_disk_.size()), scale_,
-                                surface_.sigma_over_lambda(), mode_ == KMode::tis};
+  const detail::KTableView view{dense_.data(), static_cast<int>(dense_.size() / 2), dense_scale_, mode_ == KMode::plane ? 1.0 : 0.0};
   detail::renormalization_span(view, geos, count, k);
 }
 

@@ -51,8 +51,12 @@ RenormalizationParts renormalization_direct(const Surface& surface, double theta
 // no inverse trigonometry. K is steep near grazing (K - 1 and
 // K_tis vanish like cos^2 ti at 90 deg), so the table interpolates the smooth factors of K instead,
 // ln D(ti) and the outside fraction r(ti) = outside / (1 - e^-g1), by cubic Hermite with
-// fourth-order slopes, and rebuilds K with the exact g1(ti) and g(ti, ti). Build once per
-// (surface, mode); evaluation is O(1).
+// fourth-order slopes. A lookup evaluates one cubic: q = (K - 1) / cos^2 ti (plane) or
+// K / cos^2 ti (tis), computed from the smooth factors with the exact g1(ti) and g(ti, ti) on a
+// grid 23x finer (kDenseMinNodes; 33 KB for 91 nodes), times the query's exact cos^2 ti. Build once
+// per (surface, mode); evaluation is O(1). Span lookup, one core: 4.98 ns per query, against
+// 8.75 ns rebuilding K from the smooth factors (an exp, an expm1 and a division per query) and
+// 14.5 ns with the arcsine node map below; errors vs direct unchanged to 2 digits.
 // Accuracy (tests/cpp/test_renormalization.cpp, RenormalizationTable.MatchesDirectBetweenNodesTo1e5,
 // off-node angles over [0, 89.5] deg) measured max relative error vs renormalization_direct:
 // <= 1.0e-7 (plane) and 4.4e-7 (tis) for polished (sigma/lambda = 0.01, l_c/lambda = 5),
@@ -89,6 +93,17 @@ class RenormalizationTable {
   std::vector<double> log_disk_, log_disk_slope_;
   std::vector<double> outside_fraction_, outside_fraction_slope_;
   bool linear_only_ = false;  // no scatter anywhere in the disk (underflow): K interpolated linearly
+  static constexpr int kDenseRefinement = 4;   // dense intervals per coarse one, at least
+  static constexpr int kDenseMinNodes = 2048;  // ... and at least this many dense intervals
+  // The lookup's table, on a grid kDenseRefinement times finer in u, from the smooth factors:
+  // q = (K - b) / cos^2 ti with b = 1 (plane) or 0 (tis), smooth in u up to grazing, where K - b
+  // vanishes like cos^2 ti (g1 = g(ti, 0) and g(ti, ti) do); K = b + cos^2 ti q keeps that
+  // steep factor exact and costs one cubic per query (no exp or division). Interleaved (q, dq per
+  // dense node index).
+  std::vector<double> dense_;
+  double dense_scale_ = 1.0;  // dense node index per unit of u
+
+  double q_from_smooth_factors(double u) const;
 };
 
 // Shared, thread-safe cache: one table per (sigma/lambda, l_c/lambda, mode).
