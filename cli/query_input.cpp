@@ -166,14 +166,16 @@ void write_evaluations(std::ostream& out, const std::vector<Query>& queries,
     }
   }
   out << "theta_i,theta_s,phi_s,value\n";
-  // Rows into a block, written when nearly full: to_chars with precision 17 in general format is
-  // printf's %.17g (the C++17 contract), without printf's per-call parsing and locale.
+  // Rows into a block, written when nearly full. Each number in the fewest digits that read back
+  // as the same double (std::to_chars without a precision: exact, as %.17g, in ~55 ns instead of
+  // ~95, and at the same cost for 1.58e-37 as for 0.0158, so that `--model g` cancels the I/O of
+  // any model in a subtraction).
   constexpr std::size_t kBlock = 1 << 16, kRow = 4 * 32;
   std::vector<char> block(kBlock);
   std::size_t used = 0;
   auto put = [&](double x, char after) {
     char* const at = block.data() + used;
-    char* const stop = std::to_chars(at, block.data() + kBlock, x, std::chars_format::general, 17).ptr;
+    char* const stop = std::to_chars(at, block.data() + kBlock, x).ptr;
     *stop = after;
     used += static_cast<std::size_t>(stop - at) + 1;
   };

@@ -1,6 +1,7 @@
 #pragma once
 // Query input of `brdf eval`: --at TI,TS,PHIS options and CSV lines "theta_i,theta_s,phi_s"
-// (degrees) from a file or stdin; output CSV "theta_i,theta_s,phi_s,value" at 17 significant digits.
+// (degrees) from a file or stdin; output CSV "theta_i,theta_s,phi_s,value", each number in the
+// fewest digits that read back as the same double.
 #include <cstddef>
 #include <functional>
 #include <iosfwd>
@@ -29,7 +30,7 @@ inline constexpr std::size_t kMaxQueryLineLength = 4096;
 std::vector<Query> read_queries(const std::vector<std::string>& at_values, const std::string& queries_source);
 
 // Evaluates each query (angles validated per query, errors name the query) and writes the CSV
-// (std::to_chars: the digits of printf's %.17g).
+// (std::to_chars, shortest round trip).
 void write_evaluations(std::ostream& out, const std::vector<Query>& queries,
                        const std::function<double(const libbrdf::ScatterAngles&)>& evaluate);
 

@@ -52,17 +52,21 @@ class EvalOutput(unittest.TestCase):
             self.assertEqual(row[:3], [float(x) for x in q.split(",")])
             self.assertTrue(math.isfinite(row[3]) and row[3] >= 0.0, row)
 
-    def test_every_number_has_17_significant_digits(self):
-        rc, out, err = run(["--model", "mbk"] + SURFACE + ["--at", "33.3,21.7,171.1", "--at", "10,10,180"])
+    def test_every_number_is_its_shortest_round_trip(self):
+        rc, out, err = run(["--model", "mbk"] + SURFACE + ["--at", "33.3,21.7,171.1", "--at", "10,10,180", "--at", "0.1,85,0"])
         self.assertEqual(rc, 0, err)
         lines, _ = parse_csv(out)
+        self.assertEqual(lines[1].split(",")[:3], ["33.3", "21.7", "171.1"])  # the angles as given
         for line in lines[1:]:
             for field in line.split(","):
-                # %.17g of the parsed double reproduces the text exactly: 17 significant digits.
-                self.assertEqual(field, "%.17g" % float(field), line)
-            value = line.split(",")[3]
-            digits = re.sub(r"e.*$", "", value).replace(".", "").lstrip("0")
-            self.assertEqual(len(digits), 17, value)
+                x = float(field)
+                # Its significant digits (no sign, point, exponent or padding zeros) read back as x,
+                # and one digit fewer does not: the shortest exact form.
+                digits = re.sub(r"e.*$", "", field).replace(".", "").replace("-", "").strip("0") or "0"
+                n = len(digits)
+                self.assertEqual(float("%.*e" % (n - 1, x)), x, field)
+                if n > 1:
+                    self.assertNotEqual(float("%.*e" % (n - 2, x)), x, field)
 
     def test_queries_file_with_header_equals_at(self):
         queries = ["30,30,180", "10,20,0", "45,60,90"]

@@ -3,7 +3,7 @@
 
 Every quantity `brdf eval --model` accepts, on several surfaces, at the same random points
 (including one batch large enough for the batch API's threads), evaluated through
-libbrdf.Model and through `brdf eval --queries` (CSV at %.17g, which round-trips doubles): the
+libbrdf.Model and through `brdf eval --queries` (CSV in shortest round-trip digits, exact for doubles): the
 values must be equal, not close. Likewise a table baked by libbrdf.bake and by `brdf bake`, and
 its lookups through Lut and `brdf eval --lut`.
 Environment: BRDF_EXE (the brdf program), PYTHONPATH with the module's directory (build/python).
