@@ -261,15 +261,15 @@ void asf_auto_geometries(const Surface& surface, const ScatterGeometry* geos, st
                          const SeriesOptions& options, double* asf_out) {
   constexpr std::size_t kBlock = 256;
   double g[kBlock], c[kBlock];
-  const double prefactor = asf_arguments(surface, ScatterGeometry{}).prefactor;  // pi (l_c/lambda)^2, eq. 11
+  const AsfScales scales = asf_scales(surface);
   for (std::size_t begin = 0; begin < count; begin += kBlock) {
     const std::size_t n = std::min(kBlock, count - begin);
     for (std::size_t k = 0; k < n; ++k) {
-      const AsfArguments args = asf_arguments(surface, geos[begin + k]);
+      const AsfArguments args = asf_arguments(scales, geos[begin + k]);
       g[k] = args.g;
       c[k] = args.c;
     }
-    asf_auto_batch(g, c, n, prefactor, tolerance, options, asf_out + begin);
+    asf_auto_batch(g, c, n, scales.prefactor, tolerance, options, asf_out + begin);
   }
 }
 

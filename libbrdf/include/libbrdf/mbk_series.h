@@ -79,14 +79,29 @@ struct AsfArguments {
   double c;          // pi^2 (l_c/lambda)^2 eta_r^2
   double prefactor;  // pi (l_c/lambda)^2
 };
-// Inline: the batch paths compute them per query.
-inline AsfArguments asf_arguments(const Surface& surface, const ScatterGeometry& geo) {
+// The surface's factors of AsfArguments, computed once per surface (two divisions) rather than
+// per query.
+struct AsfScales {
+  double g_scale;    // 2 pi sigma_s / lambda: g = (g_scale (cos ti + cos ts))^2, eq. 12
+  double c_scale;    // pi^2 (l_c/lambda)^2: c = c_scale eta_r^2
+  double prefactor;  // pi (l_c/lambda)^2
+};
+inline AsfScales asf_scales(const Surface& surface) {
   const double lc_over_lambda = surface.lc_over_lambda();
-  AsfArguments args{};
-  args.g = roughness_g(surface.sigma_over_lambda(), geo.cos_theta_i, geo.cos_theta_s);
-  args.prefactor = kPi * lc_over_lambda * lc_over_lambda;  // pi l_c^2 / lambda^2, eq. 11
-  args.c = kPi * args.prefactor * geo.eta_r2;               // v_xy^2 l_c^2 / 4 = pi^2 (l_c/lambda)^2 eta_r^2
-  return args;
+  AsfScales s{};
+  s.g_scale = 2.0 * kPi * surface.sigma_over_lambda();  // roughness_g's k, without the cosines
+  s.prefactor = kPi * lc_over_lambda * lc_over_lambda;   // pi l_c^2 / lambda^2, eq. 11
+  s.c_scale = kPi * s.prefactor;                         // v_xy^2 l_c^2 / 4 = pi^2 (l_c/lambda)^2 eta_r^2
+  return s;
+}
+// Inline: the batch paths compute them per query. Bit for bit roughness_g's g (its k is
+// (2 pi sigma/lambda) (cos ti + cos ts), multiplied in that order).
+inline AsfArguments asf_arguments(const AsfScales& scales, const ScatterGeometry& geo) {
+  const double k = scales.g_scale * (geo.cos_theta_i + geo.cos_theta_s);
+  return AsfArguments{k * k, scales.c_scale * geo.eta_r2, scales.prefactor};
+}
+inline AsfArguments asf_arguments(const Surface& surface, const ScatterGeometry& geo) {
+  return asf_arguments(asf_scales(surface), geo);
 }
 
 // eq. 11 with K = 1, by the series.
