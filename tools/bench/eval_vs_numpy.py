@@ -34,9 +34,10 @@ speedup_vs_numpy_mbk (numpy_mbk_ns / cli_ns), speedup_inproc_vs_numpy_mbk (numpy
 numpy_mbk_max_rel_err (the timed numpy mbk against the same reference as max_rel_err), and its parts'
 errors at the check points: numpy_k_interp_max_rel_err (the interpolated K against `--model k`) and
 numpy_qbar_max_rel_err (against `--model q`); then module_speedup_cpu_vs_numpy_mbk (numpy mbk CPU /
-module CPU). `brdf eval` reads with std::from_chars and writes with std::to_chars: ~0.6-0.9 us of I/O per query (was ~2.4 us with strtod/printf), and the
-spread of the cancelled difference 50-300 ns at 5e5 points on a loaded two-core machine (was
-0.6-2.6 us): trust cli_ns to about its cli_spread_ns.
+module CPU). `brdf eval` reads with std::from_chars and writes each number in its shortest exact digits
+(std::to_chars): ~0.55 us of I/O per query (was ~2.4 us with strtod/printf, ~0.62 us with %.17g
+digits, whose cost grew with the value's exponent), and the spread of the cancelled difference
+30-200 ns at 1e6 points on a loaded two-core machine: trust cli_ns to about its cli_spread_ns.
 """
 import argparse, math, os, re, resource, subprocess, sys, tempfile, time
 import numpy as np
