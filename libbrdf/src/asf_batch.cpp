@@ -309,6 +309,9 @@ HWY_INLINE void TransposeSquare(D d, hn::Vec<D>* v) {
 // the prefactor are lane operations here too, so asf_auto_batch hands every query of a chunk to the
 // table first and routes only those handed back: asf minus g 11.7 -> 11.1 ns (polished),
 // 12.0 -> 10.0 (intermediate), same run, against a scalar contains() pass, a copy and a multiply.
+// The chunks are pipelined (the next chunk's cells located and prefetched before this chunk is
+// interpolated): polished 10.7 -> 10.0 and 11.4 -> 10.4 ns in two same-run comparisons, rough
+// 9.0 -> 8.7, intermediate unchanged.
 constexpr std::size_t kTableChunk = 64;
 
 std::size_t KernelTableLanes(const double* nodes, int nx, int nz, double x_min, double dx, double dz, const double* g,
@@ -324,9 +327,17 @@ std::size_t KernelTableLanes(const double* nodes, int nx, int nz, double x_min, 
   const V g_min = hn::Set(d, kKernelGMin), g_max = hn::Set(d, kKernelGMax), z_max2 = hn::Set(d, kKernelZMax * kKernelZMax);
   std::size_t outside_count = 0;
   const std::ptrdiff_t row_stride = 4 * static_cast<std::ptrdiff_t>(nz);  // node (i + 1, j) - node (i, j)
-  alignas(64) double gb[kMaxLanes], cb[kMaxLanes], out[kMaxLanes], s_chunk[kTableChunk], t_chunk[kTableChunk];
-  alignas(64) hn::TFromD<decltype(di)> node_chunk[kTableChunk];  // index of node (i, j) of each query's cell
-  for (std::size_t k0 = 0; k0 < count; k0 += kTableChunk) {
+  alignas(64) double gb[kMaxLanes], cb[kMaxLanes], out[kMaxLanes];
+  // Two chunks in flight: the cells of chunk k + 1 are located (and their rows prefetched) before
+  // chunk k is interpolated, so that the prefetches lead the loads by a whole chunk.
+  struct Cells {
+    alignas(64) double s[kTableChunk], t[kTableChunk];
+    alignas(64) hn::TFromD<decltype(di)> node[kTableChunk];  // index of node (i, j) of each query's cell
+  } cells[2];
+  auto locate = [&](std::size_t k0, Cells& at) {
+    double* const s_chunk = at.s;
+    double* const t_chunk = at.t;
+    auto* const node_chunk = at.node;
     const std::size_t chunk = std::min(kTableChunk, count - k0);
     for (std::size_t k = 0; k < chunk; k += n) {
       const std::size_t m = std::min(n, chunk - k);
@@ -359,6 +370,12 @@ std::size_t KernelTableLanes(const double* nodes, int nx, int nz, double x_min, 
           hwy::Prefetch(row + 7);
         }
     }
+  };
+  auto interpolate = [&](std::size_t k0, const Cells& at) {
+    const double* const s_chunk = at.s;
+    const double* const t_chunk = at.t;
+    const auto* const node_chunk = at.node;
+    const std::size_t chunk = std::min(kTableChunk, count - k0);
     for (std::size_t k = 0; k < chunk; k += n) {
       const std::size_t m = std::min(n, chunk - k);
       const V s = hn::Load(d, s_chunk + k), t = hn::Load(d, t_chunk + k);
@@ -395,6 +412,11 @@ std::size_t KernelTableLanes(const double* nodes, int nx, int nz, double x_min, 
         std::copy(out, out + m, sigma + k0 + k);
       }
     }
+  };
+  if (count > 0) locate(0, cells[0]);
+  for (std::size_t k0 = 0, which = 0; k0 < count; k0 += kTableChunk, which ^= 1) {
+    if (k0 + kTableChunk < count) locate(k0 + kTableChunk, cells[which ^ 1]);
+    interpolate(k0, cells[which]);
   }
   return outside_count;
 }
