@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "angular_simd.h"
+#include "simd_transpose-inl.h"  // TransposeSquare
 
 HWY_BEFORE_NAMESPACE();
 namespace libbrdf::detail {
@@ -114,6 +115,22 @@ void ScatterTrig(const ScatterAngles* angles, std::size_t count, double* trig) {
   }
 }
 
+// The derived fields of ScatterGeometry (eqs 5, 6, 10; geometry.h) from its first six (the sines
+// and cosines), lane by lane: the one formula of every path (GeometriesFromTrig, ScatterGeometries).
+template <class D, class V>
+HWY_INLINE void DeriveFields(D d, V* field) {
+  const V one = hn::Set(d, 1.0), half = hn::Set(d, 0.5), two = hn::Set(d, 2.0);
+  const V ci = field[kCosI], si = field[kSinI], cs = field[kCosS], ss = field[kSinS], cp = field[kCosPhi], sp = field[kSinPhi];
+  // eq. 5, clamped to [-1, 1] only against rounding (|cos 2td| <= 1 holds for real angles).
+  field[kCos2D] = hn::Min(hn::Max(hn::Add(hn::Mul(ci, cs), hn::Mul(hn::Mul(si, ss), cp)), hn::Neg(one)), one);
+  field[kCosD] = hn::Sqrt(hn::Mul(half, hn::Add(one, field[kCos2D])));
+  // eq. 6. cos td > 0 because both directions lie strictly above the horizon (ci + cs > 0).
+  field[kCosH] = hn::Min(one, hn::Div(hn::Add(ci, cs), hn::Mul(two, field[kCosD])));
+  // eq. 10 as |Delta alpha|^2 + |Delta beta|^2 (eq. 9): >= 0 under rounding.
+  const V d_alpha = hn::Mul(ss, sp), d_beta = hn::Add(hn::Mul(ss, cp), si);
+  field[kEta2] = hn::Add(hn::Mul(d_alpha, d_alpha), hn::Mul(d_beta, d_beta));
+}
+
 // The derived quantities of ScatterGeometry (eqs 5, 6, 10; geometry.h) from the sines and cosines
 // trig[6 k .. 6 k + 5], lane by lane, stored into geos[k]. Every query of a process goes through
 // this one function (make_scatter_geometries, scatter_geometry_from_trig), so a query gives the same
@@ -126,19 +143,10 @@ void GeometriesFromTrig(const double* trig, std::size_t count, ScatterGeometry* 
   alignas(64) std::int64_t in_offsets[HWY_MAX_BYTES / sizeof(double)];
   for (std::size_t k = 0; k < n; ++k) in_offsets[k] = static_cast<std::int64_t>(6 * k);
   const auto in = hn::Load(di, in_offsets), out = GeoOffsets(d);
-  const V one = hn::Set(d, 1.0), half = hn::Set(d, 0.5), two = hn::Set(d, 2.0);
   auto block = [&](const double* t, ScatterGeometry* g) {
     V field[10];
     for (int f = 0; f < 6; ++f) field[f] = hn::GatherIndex(d, t + f, in);
-    const V ci = field[kCosI], si = field[kSinI], cs = field[kCosS], ss = field[kSinS], cp = field[kCosPhi], sp = field[kSinPhi];
-    // eq. 5, clamped to [-1, 1] only against rounding (|cos 2td| <= 1 holds for real angles).
-    field[kCos2D] = hn::Min(hn::Max(hn::Add(hn::Mul(ci, cs), hn::Mul(hn::Mul(si, ss), cp)), hn::Neg(one)), one);
-    field[kCosD] = hn::Sqrt(hn::Mul(half, hn::Add(one, field[kCos2D])));
-    // eq. 6. cos td > 0 because both directions lie strictly above the horizon (ci + cs > 0).
-    field[kCosH] = hn::Min(one, hn::Div(hn::Add(ci, cs), hn::Mul(two, field[kCosD])));
-    // eq. 10 as |Delta alpha|^2 + |Delta beta|^2 (eq. 9): >= 0 under rounding.
-    const V d_alpha = hn::Mul(ss, sp), d_beta = hn::Add(hn::Mul(ss, cp), si);
-    field[kEta2] = hn::Add(hn::Mul(d_alpha, d_alpha), hn::Mul(d_beta, d_beta));
+    DeriveFields(d, field);
     double* base = reinterpret_cast<double*>(g);
     for (int f = 0; f < 10; ++f) hn::ScatterIndex(field[f], d, base + f, out);
   };
@@ -153,6 +161,58 @@ void GeometriesFromTrig(const double* trig, std::size_t count, ScatterGeometry* 
     block(t, g);
     for (std::size_t j = 0; j < count - k; ++j) geos[k + j] = g[j];
   }
+}
+
+// make_scatter_geometries in one pass: each vector of queries' angles loaded de-interleaved, their
+// sines and cosines (hn::Sin/Cos, as ScatterTrig) and DeriveFields in registers, then stored. The
+// sines and cosines no longer go through a buffer (6 scatters and 6 gathers per vector), and the
+// angles are read without gathers. Vectors with an azimuth beyond Highway's range and the
+// remainder go through ScatterTrig + GeometriesFromTrig: the same values either way (bit for bit
+// on the AVX3, AVX2, SSE4, SSSE3 targets, checked with hwy::DisableTargets). The fields go into
+// the records by transposition where a run of n fields fits (8 of the 10 on AVX3), not by 10
+// scatters. 256-query blocks in cache, one core, same run: 13.9 -> 5.8 ns per query (the fused
+// pass with scatters alone: ~8-10).
+void ScatterGeometries(const ScatterAngles* angles, std::size_t count, ScatterGeometry* geos) {
+  const hn::ScalableTag<double> d;
+  using V = hn::Vec<decltype(d)>;
+  const std::size_t n = hn::Lanes(d);
+  constexpr std::size_t kLanes = hn::MaxLanes(d);  // = n on the fixed-width targets Highway 1.0 has here
+  const auto out = GeoOffsets(d);
+  const V phi_limit = hn::Set(d, 39000.0);
+  constexpr std::size_t kMaxLanes = HWY_MAX_BYTES / sizeof(double);
+  auto two_step = [&](std::size_t k, std::size_t m) {
+    double trig[6 * kMaxLanes];
+    ScatterTrig(angles + k, m, trig);
+    GeometriesFromTrig(trig, m, geos + k);
+  };
+  static_assert(sizeof(ScatterAngles) == 3 * sizeof(double), "ScatterAngles: three doubles");
+  const double* a = reinterpret_cast<const double*>(angles);
+  std::size_t k = 0;
+  for (; k + n <= count; k += n) {
+    V ti, ts, ps;
+    hn::LoadInterleaved3(d, a + 3 * k, ti, ts, ps);
+    if (!hn::AllTrue(d, hn::Le(hn::Abs(ps), phi_limit))) {
+      two_step(k, n);
+      continue;
+    }
+    V field[10];
+    field[kCosI] = hn::Cos(d, ti), field[kSinI] = hn::Sin(d, ti);
+    field[kCosS] = hn::Cos(d, ts), field[kSinS] = hn::Sin(d, ts);
+    field[kCosPhi] = hn::Cos(d, ps), field[kSinPhi] = hn::Sin(d, ps);
+    DeriveFields(d, field);
+    // Into the records: each run of n fields transposed (lane q of the run is then record q's n
+    // consecutive fields, one store), the fields left over scattered.
+    double* base = reinterpret_cast<double*>(geos + k);
+    std::size_t f0 = 0;
+    for (; f0 + kLanes <= 10; f0 += kLanes) {
+      V run[kLanes];
+      for (std::size_t q = 0; q < kLanes; ++q) run[q] = field[f0 + q];
+      TransposeSquare(d, run);
+      for (std::size_t q = 0; q < kLanes; ++q) hn::StoreU(run[q], d, base + kGeoStride * q + f0);
+    }
+    for (; f0 < 10; ++f0) hn::ScatterIndex(field[f0], d, base + f0, out);
+  }
+  if (k < count) two_step(k, count - k);
 }
 
 void StoverQBarSpan(double eps_re, double eps_im, const ScatterGeometry* geos, std::size_t count, double* out) {
@@ -242,12 +302,16 @@ HWY_AFTER_NAMESPACE();
 namespace libbrdf::detail {
 HWY_EXPORT(ScatterTrig);
 HWY_EXPORT(GeometriesFromTrig);
+HWY_EXPORT(ScatterGeometries);
 HWY_EXPORT(StoverQBarSpan);
 HWY_EXPORT(FresnelDSpan);
 HWY_EXPORT(RenormalizationSpan);
 
 void scatter_trig(const ScatterAngles* angles, std::size_t count, double* trig) {
   HWY_DYNAMIC_DISPATCH(ScatterTrig)(angles, count, trig);
+}
+void scatter_geometries(const ScatterAngles* angles, std::size_t count, ScatterGeometry* geos) {
+  HWY_DYNAMIC_DISPATCH(ScatterGeometries)(angles, count, geos);
 }
 void geometries_from_trig(const double* trig, std::size_t count, ScatterGeometry* geos) {
   HWY_DYNAMIC_DISPATCH(GeometriesFromTrig)(trig, count, geos);

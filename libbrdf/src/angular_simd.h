@@ -19,6 +19,9 @@ void scatter_trig(const ScatterAngles* angles, std::size_t count, double* trig);
 // from trig[6 k .. 6 k + 5]. The one implementation behind make_scatter_geometries and
 // scatter_geometry_from_trig, so that every path gives a query the same bits.
 void geometries_from_trig(const double* trig, std::size_t count, ScatterGeometry* geos);
+// Both in one pass (make_scatter_geometries): geos[k] from angles[k], the same values as
+// scatter_trig then geometries_from_trig.
+void scatter_geometries(const ScatterAngles* angles, std::size_t count, ScatterGeometry* geos);
 
 // Qbar = (Q_s + Q_p)/2 of Stover (fresnel.h, stover_q) at each geometry, permittivity eps.
 void stover_q_bar_span(double eps_re, double eps_im, const ScatterGeometry* geos, std::size_t count, double* out);

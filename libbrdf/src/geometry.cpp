@@ -28,13 +28,7 @@ ScatterGeometry scatter_geometry_from_trig(double cos_theta_i, double sin_theta_
 }
 
 void make_scatter_geometries(const ScatterAngles* angles, std::size_t count, ScatterGeometry* geos) {
-  constexpr std::size_t kBlock = 256;
-  double trig[6 * kBlock];
-  for (std::size_t begin = 0; begin < count; begin += kBlock) {
-    const std::size_t n = std::min(kBlock, count - begin);
-    detail::scatter_trig(angles + begin, n, trig);
-    detail::geometries_from_trig(trig, n, geos + begin);
-  }
+  detail::scatter_geometries(angles, count, geos);
 }
 
 double tan2_theta_h(const ScatterGeometry& geo) {
