@@ -131,6 +131,23 @@ HWY_INLINE void DeriveFields(D d, V* field) {
   field[kEta2] = hn::Add(hn::Mul(d_alpha, d_alpha), hn::Mul(d_beta, d_beta));
 }
 
+// The 10 fields of one vector of geometries into records geos[0 .. lanes): each run of `lanes`
+// fields transposed (lane q of the run is then record q's consecutive fields: one store), the
+// fields left over (2 of 10 with 8 lanes) scattered.
+template <class D, class V>
+HWY_INLINE void StoreRecords(D d, const V* field, ScatterGeometry* geos) {
+  constexpr std::size_t kLanes = hn::MaxLanes(d);  // = Lanes(d) on the fixed-width targets of Highway 1.0
+  double* base = reinterpret_cast<double*>(geos);
+  std::size_t f0 = 0;
+  for (; f0 + kLanes <= kGeoStride; f0 += kLanes) {
+    V run[kLanes];
+    for (std::size_t q = 0; q < kLanes; ++q) run[q] = field[f0 + q];
+    TransposeSquare(d, run);
+    for (std::size_t q = 0; q < kLanes; ++q) hn::StoreU(run[q], d, base + kGeoStride * q + f0);
+  }
+  for (; f0 < kGeoStride; ++f0) hn::ScatterIndex(field[f0], d, base + f0, GeoOffsets(d));
+}
+
 // The derived quantities of ScatterGeometry (eqs 5, 6, 10; geometry.h) from the sines and cosines
 // trig[6 k .. 6 k + 5], lane by lane, stored into geos[k]. Every query of a process goes through
 // this one function (make_scatter_geometries, scatter_geometry_from_trig), so a query gives the same
@@ -142,13 +159,12 @@ void GeometriesFromTrig(const double* trig, std::size_t count, ScatterGeometry* 
   const std::size_t n = hn::Lanes(d);
   alignas(64) std::int64_t in_offsets[HWY_MAX_BYTES / sizeof(double)];
   for (std::size_t k = 0; k < n; ++k) in_offsets[k] = static_cast<std::int64_t>(6 * k);
-  const auto in = hn::Load(di, in_offsets), out = GeoOffsets(d);
+  const auto in = hn::Load(di, in_offsets);
   auto block = [&](const double* t, ScatterGeometry* g) {
     V field[10];
     for (int f = 0; f < 6; ++f) field[f] = hn::GatherIndex(d, t + f, in);
     DeriveFields(d, field);
-    double* base = reinterpret_cast<double*>(g);
-    for (int f = 0; f < 10; ++f) hn::ScatterIndex(field[f], d, base + f, out);
+    StoreRecords(d, field, g);
   };
   std::size_t k = 0;
   for (; k + n <= count; k += n) block(trig + 6 * k, geos + k);
@@ -176,8 +192,6 @@ void ScatterGeometries(const ScatterAngles* angles, std::size_t count, ScatterGe
   const hn::ScalableTag<double> d;
   using V = hn::Vec<decltype(d)>;
   const std::size_t n = hn::Lanes(d);
-  constexpr std::size_t kLanes = hn::MaxLanes(d);  // = n on the fixed-width targets Highway 1.0 has here
-  const auto out = GeoOffsets(d);
   const V phi_limit = hn::Set(d, 39000.0);
   constexpr std::size_t kMaxLanes = HWY_MAX_BYTES / sizeof(double);
   auto two_step = [&](std::size_t k, std::size_t m) {
@@ -200,17 +214,7 @@ void ScatterGeometries(const ScatterAngles* angles, std::size_t count, ScatterGe
     field[kCosS] = hn::Cos(d, ts), field[kSinS] = hn::Sin(d, ts);
     field[kCosPhi] = hn::Cos(d, ps), field[kSinPhi] = hn::Sin(d, ps);
     DeriveFields(d, field);
-    // Into the records: each run of n fields transposed (lane q of the run is then record q's n
-    // consecutive fields, one store), the fields left over scattered.
-    double* base = reinterpret_cast<double*>(geos + k);
-    std::size_t f0 = 0;
-    for (; f0 + kLanes <= 10; f0 += kLanes) {
-      V run[kLanes];
-      for (std::size_t q = 0; q < kLanes; ++q) run[q] = field[f0 + q];
-      TransposeSquare(d, run);
-      for (std::size_t q = 0; q < kLanes; ++q) hn::StoreU(run[q], d, base + kGeoStride * q + f0);
-    }
-    for (; f0 < 10; ++f0) hn::ScatterIndex(field[f0], d, base + f0, out);
+    StoreRecords(d, field, geos + k);
   }
   if (k < count) two_step(k, count - k);
 }
