@@ -148,6 +148,21 @@ HWY_INLINE void StoreRecords(D d, const V* field, ScatterGeometry* geos) {
   for (; f0 < kGeoStride; ++f0) hn::ScatterIndex(field[f0], d, base + f0, GeoOffsets(d));
 }
 
+// Fields [0, count) of `lanes` consecutive records into field[0 .. count) by transposition (the
+// inverse of StoreRecords): each run of `lanes` fields costs `lanes` loads and one transposition,
+// where a gather per field costs ~lanes loads each. count <= 8 (a run never passes a record's end).
+template <class D, class V>
+HWY_INLINE void LoadRecords(D d, const ScatterGeometry* geos, std::size_t count, V* field) {
+  constexpr std::size_t kLanes = hn::MaxLanes(d);
+  const double* base = reinterpret_cast<const double*>(geos);
+  for (std::size_t f0 = 0; f0 < count; f0 += kLanes) {
+    V run[kLanes];
+    for (std::size_t q = 0; q < kLanes; ++q) run[q] = hn::LoadU(d, base + kGeoStride * q + f0);
+    TransposeSquare(d, run);
+    for (std::size_t j = 0; j < kLanes && f0 + j < count; ++j) field[f0 + j] = run[j];
+  }
+}
+
 // The derived quantities of ScatterGeometry (eqs 5, 6, 10; geometry.h) from the sines and cosines
 // trig[6 k .. 6 k + 5], lane by lane, stored into geos[k]. Every query of a process goes through
 // this one function (make_scatter_geometries, scatter_geometry_from_trig), so a query gives the same
@@ -222,14 +237,13 @@ void ScatterGeometries(const ScatterAngles* angles, std::size_t count, ScatterGe
 void StoverQBarSpan(double eps_re, double eps_im, const ScatterGeometry* geos, std::size_t count, double* out) {
   const hn::ScalableTag<double> d;
   using V = hn::Vec<decltype(d)>;
-  const auto offsets = GeoOffsets(d);
   const V er = hn::Set(d, eps_re), ei = hn::Set(d, eps_im), zero = hn::Zero(d);
   // |eps - 1|^2, the common factor of the four Q's.
   const V e2 = hn::Set(d, (eps_re - 1.0) * (eps_re - 1.0) + eps_im * eps_im);
   ForEachBlock(d, geos, count, out, [&](const ScatterGeometry* g) {
-    const V ci = Field(d, g, kCosI, offsets), si = Field(d, g, kSinI, offsets);
-    const V cs = Field(d, g, kCosS, offsets), ss = Field(d, g, kSinS, offsets);
-    const V cphi = Field(d, g, kCosPhi, offsets), sphi = Field(d, g, kSinPhi, offsets);
+    V trig[6];
+    LoadRecords(d, g, 6, trig);
+    const V ci = trig[kCosI], si = trig[kSinI], cs = trig[kCosS], ss = trig[kSinS], cphi = trig[kCosPhi], sphi = trig[kSinPhi];
     V wir, wii, wsr, wsi;  // w = sqrt(eps - sin^2 theta) for i and s
     ComplexSqrt(d, hn::NegMulAdd(si, si, er), ei, &wir, &wii);
     ComplexSqrt(d, hn::NegMulAdd(ss, ss, er), ei, &wsr, &wsi);
