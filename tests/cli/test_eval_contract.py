@@ -4,7 +4,8 @@
   brdf eval --model NAME [surface params] (--at TI,TS,PHIS ... | --queries FILE|-)
 
 stdout: CSV with header `theta_i,theta_s,phi_s,value`, one row per query in input order, every
-number printed with 17 significant digits (%.17g, so it round-trips to the same double).
+number in the fewest digits that read back as the same double. The README's `brdf eval` example is
+run and its output compared with what it documents (values to 1e-12).
 Bad input: exit status 2, nothing on stdout, exactly one line on stderr naming the parameter.
 Values that can be checked independently (Fresnel at normal incidence, g, eta_r^2, S, R_spec)
 are recomputed here from the paper's formulas.
@@ -37,7 +38,28 @@ def parse_csv(text):
     return lines, rows
 
 
+README = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "README.md")
+
+
 class EvalOutput(unittest.TestCase):
+    def test_readme_example_output_is_what_eval_prints(self):
+        with open(README) as f:
+            text = f.read()
+        match = re.search(r"```\n\$ brdf eval ([^\n]*)\n(.*?)```", text, re.S)
+        self.assertIsNotNone(match, "the README's `$ brdf eval` example")
+        rc, out, err = run(match.group(1).split())
+        self.assertEqual(rc, 0, err)
+        printed, documented = out.splitlines(), match.group(2).splitlines()
+        self.assertEqual(printed[0], documented[0])
+        self.assertEqual(len(printed), len(documented))
+        # Angles as written; values to 1e-12 relative, so that another SIMD target's last bits
+        # (Highway picks one at run time) do not fail the documentation.
+        for got, want in zip(printed[1:], documented[1:]):
+            got, want = got.split(","), want.split(",")
+            self.assertEqual(got[:3], want[:3])
+            self.assertLessEqual(abs(float(got[3]) - float(want[3])), 1e-12 * abs(float(want[3])), (got, want))
+
+
     def test_header_and_one_row_per_repeated_at_in_order(self):
         queries = ["30,30,180", "10,20,0", "45,60,90", "0,0,0"]
         args = ["--model", "mbk"] + SURFACE
