@@ -14,23 +14,12 @@
 #include <vector>
 
 #include "angular_simd.h"
-#include "simd_transpose-inl.h"  // TransposeSquare
+#include "geometry_records-inl.h"  // GeoField, Field, LoadRecords, StoreRecords
 
 HWY_BEFORE_NAMESPACE();
 namespace libbrdf::detail {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
-
-// ScatterGeometry as an array of doubles: field offsets for the gathers.
-constexpr std::int64_t kGeoStride = sizeof(ScatterGeometry) / sizeof(double);
-static_assert(sizeof(ScatterGeometry) == 10 * sizeof(double), "ScatterGeometry: ten doubles, no padding");
-enum GeoField : std::int64_t { kCosI = 0, kSinI, kCosS, kSinS, kCosPhi, kSinPhi, kCos2D, kCosD, kCosH, kEta2 };
-
-// One field of `lanes` consecutive geometries.
-template <class D, class VI>
-HWY_INLINE hn::Vec<D> Field(D d, const ScatterGeometry* geos, GeoField field, VI offsets) {
-  return hn::GatherIndex(d, reinterpret_cast<const double*>(geos) + field, offsets);
-}
 
 // out[k] = kernel(geos + block start)[lane] over the span: full blocks, then the last block
 // shifted back to end at `count` (it recomputes a few values identically), or a padded copy when
@@ -50,14 +39,6 @@ HWY_INLINE void ForEachBlock(D d, const ScatterGeometry* geos, std::size_t count
   std::size_t k = 0;
   for (; k + n <= count; k += n) hn::StoreU(kernel(geos + k), d, out + k);
   if (k < count) hn::StoreU(kernel(geos + count - n), d, out + count - n);
-}
-
-template <class D>
-HWY_INLINE hn::Vec<hn::RebindToSigned<D>> GeoOffsets(D d) {
-  const hn::RebindToSigned<D> di;
-  alignas(64) std::int64_t offsets[HWY_MAX_BYTES / sizeof(double)];
-  for (std::size_t k = 0; k < hn::Lanes(d); ++k) offsets[k] = static_cast<std::int64_t>(k) * kGeoStride;
-  return hn::Load(di, offsets);
 }
 
 // Principal square root of a + i b for b >= 0 (Im eps = 2 n kappa >= 0), as std::sqrt:
@@ -129,38 +110,6 @@ HWY_INLINE void DeriveFields(D d, V* field) {
   // eq. 10 as |Delta alpha|^2 + |Delta beta|^2 (eq. 9): >= 0 under rounding.
   const V d_alpha = hn::Mul(ss, sp), d_beta = hn::Add(hn::Mul(ss, cp), si);
   field[kEta2] = hn::Add(hn::Mul(d_alpha, d_alpha), hn::Mul(d_beta, d_beta));
-}
-
-// The 10 fields of one vector of geometries into records geos[0 .. lanes): each run of `lanes`
-// fields transposed (lane q of the run is then record q's consecutive fields: one store), the
-// fields left over (2 of 10 with 8 lanes) scattered.
-template <class D, class V>
-HWY_INLINE void StoreRecords(D d, const V* field, ScatterGeometry* geos) {
-  constexpr std::size_t kLanes = hn::MaxLanes(d);  // = Lanes(d) on the fixed-width targets of Highway 1.0
-  double* base = reinterpret_cast<double*>(geos);
-  std::size_t f0 = 0;
-  for (; f0 + kLanes <= kGeoStride; f0 += kLanes) {
-    V run[kLanes];
-    for (std::size_t q = 0; q < kLanes; ++q) run[q] = field[f0 + q];
-    TransposeSquare(d, run);
-    for (std::size_t q = 0; q < kLanes; ++q) hn::StoreU(run[q], d, base + kGeoStride * q + f0);
-  }
-  for (; f0 < kGeoStride; ++f0) hn::ScatterIndex(field[f0], d, base + f0, GeoOffsets(d));
-}
-
-// Fields [0, count) of `lanes` consecutive records into field[0 .. count) by transposition (the
-// inverse of StoreRecords): each run of `lanes` fields costs `lanes` loads and one transposition,
-// where a gather per field costs ~lanes loads each. count <= 8 (a run never passes a record's end).
-template <class D, class V>
-HWY_INLINE void LoadRecords(D d, const ScatterGeometry* geos, std::size_t count, V* field) {
-  constexpr std::size_t kLanes = hn::MaxLanes(d);
-  const double* base = reinterpret_cast<const double*>(geos);
-  for (std::size_t f0 = 0; f0 < count; f0 += kLanes) {
-    V run[kLanes];
-    for (std::size_t q = 0; q < kLanes; ++q) run[q] = hn::LoadU(d, base + kGeoStride * q + f0);
-    TransposeSquare(d, run);
-    for (std::size_t j = 0; j < kLanes && f0 + j < count; ++j) field[f0 + j] = run[j];
-  }
 }
 
 // The derived quantities of ScatterGeometry (eqs 5, 6, 10; geometry.h) from the sines and cosines

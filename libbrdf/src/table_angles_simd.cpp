@@ -1,7 +1,9 @@
 // Table coordinates of a span of geometries in SIMD (Google Highway, run-time dispatch): the
 // half/difference angles of half_difference_angles() (lut.cpp, MERL's half-vector frame) and
 // theta_i, from the dot products of ScatterGeometry with one vector arctangent per angle and no
-// branch per query (lut_internal.h: detail::table_angles).
+// branch per query (lut_internal.h: detail::table_angles). The records are read a vector at a
+// time by transposition (geometry_records-inl.h) and the four angles stored interleaved: no
+// structure-of-arrays copy in or out (3-channel 48^3 lookups, CPU time in one run: 23.7 -> 22.7-23.0 ns).
 //
 // Every angle lies in [0, pi] and is atan2(y, x) with y >= 0, written without atan2 as
 //   a = atan(min(y, |x|) / max(y, |x|))          in [0, pi/4]
@@ -16,6 +18,7 @@
 #include <algorithm>
 #include <cfloat>
 
+#include "geometry_records-inl.h"  // LoadRecords
 #include "lut_internal.h"
 
 HWY_BEFORE_NAMESPACE();
@@ -33,52 +36,49 @@ HWY_INLINE V UpperHalfAngle(D d, V y, V x) {
   return hn::IfThenElse(hn::Lt(x, hn::Zero(d)), hn::Sub(hn::Set(d, kPi), folded), folded);
 }
 
-// Structure-of-arrays inputs of one block (the AoS ScatterGeometry copied once per block).
-struct GeometryBlock {
-  static constexpr std::size_t kSize = 256;
-  alignas(64) double cos_i[kSize], sin_i[kSize], cos_s[kSize], sin_s[kSize], cos_phi[kSize], sin_phi[kSize];
-  alignas(64) double theta_h[kSize], theta_d[kSize], phi_d[kSize], theta_i[kSize];
-};
+// The table coordinates of one vector of geometries (records read by transposition), stored
+// interleaved into `lanes` TableAngles.
+template <class D>
+HWY_INLINE void TableAnglesOfVector(D d, const ScatterGeometry* geos, TableAngles* out) {
+  using V = hn::Vec<D>;
+  V trig[6];
+  LoadRecords(d, geos, 6, trig);
+  const V ci = trig[kCosI], si = trig[kSinI], cs = trig[kCosS], ss = trig[kSinS];
+  // Half vector along i + s, i = (sin ti, 0, cos ti), s = (sin ts cos phi_s, sin ts sin phi_s, cos ts).
+  const V hx = hn::MulAdd(ss, trig[kCosPhi], si);
+  const V hy = hn::Mul(ss, trig[kSinPhi]);
+  const V hz = hn::Add(ci, cs);
+  const V h_xy = hn::Sqrt(hn::MulAdd(hx, hx, hn::Mul(hy, hy)));
+  const V inv_norm = hn::Div(hn::Set(d, 1.0), hn::Sqrt(hn::MulAdd(h_xy, h_xy, hn::Mul(hz, hz))));
+  // phi_h is undefined at theta_h = 0; (cos, sin) = (1, 0) there, as in lut.cpp.
+  const auto has_azimuth = hn::Gt(h_xy, hn::Zero(d));
+  const V inv_xy = hn::IfThenElseZero(has_azimuth, hn::Div(hn::Set(d, 1.0), hn::Max(h_xy, hn::Set(d, DBL_MIN))));
+  const V cos_phi_h = hn::IfThenElse(has_azimuth, hn::Mul(hx, inv_xy), hn::Set(d, 1.0));
+  const V sin_phi_h = hn::Mul(hy, inv_xy);
+  const V cos_h = hn::Mul(hz, inv_norm), sin_h = hn::Mul(h_xy, inv_norm);
+  // d = R_y(-theta_h) R_z(-phi_h) i: the incident direction in the half-vector frame.
+  const V tx = hn::Mul(si, cos_phi_h), ty = hn::Neg(hn::Mul(si, sin_phi_h));
+  const V dx = hn::MulSub(tx, cos_h, hn::Mul(ci, sin_h));
+  const V dz = hn::MulAdd(tx, sin_h, hn::Mul(ci, cos_h));
+  const V d_xy = hn::Sqrt(hn::MulAdd(dx, dx, hn::Mul(ty, ty)));
+  static_assert(sizeof(TableAngles) == 4 * sizeof(double), "TableAngles: four doubles");
+  hn::StoreInterleaved4(UpperHalfAngle(d, h_xy, hz), UpperHalfAngle(d, d_xy, dz),
+                        UpperHalfAngle(d, hn::Abs(ty), dx),  // phi_d folded by the mirror symmetry
+                        UpperHalfAngle(d, si, ci), d, reinterpret_cast<double*>(out));
+}
 
 void TableAnglesSpan(const ScatterGeometry* geos, std::size_t count, TableAngles* out) {
   const hn::ScalableTag<double> d;
   const std::size_t lanes = hn::Lanes(d);
-  GeometryBlock b;
-  for (std::size_t begin = 0; begin < count; begin += GeometryBlock::kSize) {
-    const std::size_t n = std::min(GeometryBlock::kSize, count - begin);
-    const std::size_t padded = (n + lanes - 1) / lanes * lanes;
-    for (std::size_t k = 0; k < padded; ++k) {
-      // Padding lanes repeat the last geometry: finite, discarded.
-      const ScatterGeometry& g = geos[begin + std::min(k, n - 1)];
-      b.cos_i[k] = g.cos_theta_i, b.sin_i[k] = g.sin_theta_i, b.cos_s[k] = g.cos_theta_s, b.sin_s[k] = g.sin_theta_s;
-      b.cos_phi[k] = g.cos_phi_s, b.sin_phi[k] = g.sin_phi_s;
-    }
-    for (std::size_t k = 0; k < padded; k += lanes) {
-      const auto ci = hn::Load(d, b.cos_i + k), si = hn::Load(d, b.sin_i + k);
-      const auto cs = hn::Load(d, b.cos_s + k), ss = hn::Load(d, b.sin_s + k);
-      // Half vector along i + s, i = (sin ti, 0, cos ti), s = (sin ts cos phi_s, sin ts sin phi_s, cos ts).
-      const auto hx = hn::MulAdd(ss, hn::Load(d, b.cos_phi + k), si);
-      const auto hy = hn::Mul(ss, hn::Load(d, b.sin_phi + k));
-      const auto hz = hn::Add(ci, cs);
-      const auto h_xy = hn::Sqrt(hn::MulAdd(hx, hx, hn::Mul(hy, hy)));
-      const auto inv_norm = hn::Div(hn::Set(d, 1.0), hn::Sqrt(hn::MulAdd(h_xy, h_xy, hn::Mul(hz, hz))));
-      // phi_h is undefined at theta_h = 0; (cos, sin) = (1, 0) there, as in lut.cpp.
-      const auto has_azimuth = hn::Gt(h_xy, hn::Zero(d));
-      const auto inv_xy = hn::IfThenElseZero(has_azimuth, hn::Div(hn::Set(d, 1.0), hn::Max(h_xy, hn::Set(d, DBL_MIN))));
-      const auto cos_phi_h = hn::IfThenElse(has_azimuth, hn::Mul(hx, inv_xy), hn::Set(d, 1.0));
-      const auto sin_phi_h = hn::Mul(hy, inv_xy);
-      const auto cos_h = hn::Mul(hz, inv_norm), sin_h = hn::Mul(h_xy, inv_norm);
-      // d = R_y(-theta_h) R_z(-phi_h) i: the incident direction in the half-vector frame.
-      const auto tx = hn::Mul(si, cos_phi_h), ty = hn::Neg(hn::Mul(si, sin_phi_h));
-      const auto dx = hn::MulSub(tx, cos_h, hn::Mul(ci, sin_h));
-      const auto dz = hn::MulAdd(tx, sin_h, hn::Mul(ci, cos_h));
-      const auto d_xy = hn::Sqrt(hn::MulAdd(dx, dx, hn::Mul(ty, ty)));
-      hn::Store(UpperHalfAngle(d, h_xy, hz), d, b.theta_h + k);
-      hn::Store(UpperHalfAngle(d, d_xy, dz), d, b.theta_d + k);
-      hn::Store(UpperHalfAngle(d, hn::Abs(ty), dx), d, b.phi_d + k);  // phi_d folded by the mirror symmetry
-      hn::Store(UpperHalfAngle(d, si, ci), d, b.theta_i + k);
-    }
-    for (std::size_t k = 0; k < n; ++k) out[begin + k] = {b.theta_h[k], b.theta_d[k], b.phi_d[k], b.theta_i[k]};
+  std::size_t k = 0;
+  for (; k + lanes <= count; k += lanes) TableAnglesOfVector(d, geos + k, out + k);
+  if (k < count) {  // the remainder through a padded copy (padding repeats the last geometry)
+    constexpr std::size_t kMaxLanes = HWY_MAX_BYTES / sizeof(double);
+    ScatterGeometry pad[kMaxLanes];
+    TableAngles angles[kMaxLanes];
+    for (std::size_t j = 0; j < lanes; ++j) pad[j] = geos[std::min(k + j, count - 1)];
+    TableAnglesOfVector(d, pad, angles);
+    std::copy(angles, angles + (count - k), out + k);
   }
 }
 
