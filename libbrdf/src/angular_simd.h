@@ -2,8 +2,8 @@
 // Internal: the angular factors of the models over spans of geometries, in SIMD (Google Highway,
 // run-time dispatch; angular_simd.cpp). Each value depends only on its own geometry (no lane
 // mixes with another), so results do not depend on the span's length, split or position.
-// Accuracy against the scalar functions: a few ulp of Highway's Sin/Cos/Atan/Asin/Exp/Expm1 (1-4
-// ulp) propagated through the formulas; <= 1e-13 relative (tests/cpp/test_fresnel.cpp,
+// Accuracy against the scalar functions: a few ulp of Highway's Sin/Cos (1-4 ulp; the spans use no
+// other transcendental function) propagated through the formulas; <= 1e-13 relative (tests/cpp/test_fresnel.cpp,
 // test_renormalization.cpp, test_geometry.cpp), except Qbar at grazing for |eps| ~ 1e6, where the
 // scalar formula itself is good to ~1e-10 only (both agree to 3e-10 there).
 #include <cstddef>
