@@ -302,13 +302,13 @@ class Bench {
     const libbrdf::Surface surface{s.sigma_s_um, s.lc_um, kWavelengthUm};
     const std::size_t n = full_.geometries.size();
     std::vector<double> g(n), c(n), values(n);
+    const libbrdf::AsfScales scales = libbrdf::asf_scales(surface);  // as asf_auto_geometries: once per surface
     auto run = [&] {
-      double prefactor = 0.0;
       for (std::size_t k = 0; k < n; ++k) {
-        const libbrdf::AsfArguments a = libbrdf::asf_arguments(surface, full_.geometries[k]);
-        g[k] = a.g, c[k] = a.c, prefactor = a.prefactor;
+        const libbrdf::AsfArguments a = libbrdf::asf_arguments(scales, full_.geometries[k]);
+        g[k] = a.g, c[k] = a.c;
       }
-      libbrdf::asf_auto_batch(g.data(), c.data(), n, prefactor, parameters.tolerance, parameters.series, values.data());
+      libbrdf::asf_auto_batch(g.data(), c.data(), n, scales.prefactor, parameters.tolerance, parameters.series, values.data());
     };
     run();
     Row row{"fast_path", "asf", s.name, variant, "", ""};
