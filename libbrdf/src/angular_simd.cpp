@@ -59,6 +59,13 @@ HWY_INLINE V Norm(V re, V im) {
   return hn::MulAdd(re, re, hn::Mul(im, im));
 }
 
+// cos and sin of theta_i, theta_s, phi_s (angle[0 .. 2]) into field[0 .. 5], ScatterGeometry's
+// order (and trig's): the one place both geometry paths take them from.
+template <class D, class V>
+HWY_INLINE void SinesCosines(D d, const V* angle, V* field) {
+  for (int a = 0; a < 3; ++a) field[2 * a] = hn::Cos(d, angle[a]), field[2 * a + 1] = hn::Sin(d, angle[a]);
+}
+
 void ScatterTrig(const ScatterAngles* angles, std::size_t count, double* trig) {
   const hn::ScalableTag<double> d;
   const hn::RebindToSigned<decltype(d)> di;
@@ -72,11 +79,10 @@ void ScatterTrig(const ScatterAngles* angles, std::size_t count, double* trig) {
   static_assert(sizeof(ScatterAngles) == 3 * sizeof(double), "ScatterAngles: three doubles");
   auto block = [&](const ScatterAngles* block_angles, double* t) {
     const double* a = reinterpret_cast<const double*>(block_angles);
-    for (int angle = 0; angle < 3; ++angle) {
-      const auto x = hn::GatherIndex(d, a + angle, in);
-      hn::ScatterIndex(hn::Cos(d, x), d, t + 2 * angle, out);
-      hn::ScatterIndex(hn::Sin(d, x), d, t + 2 * angle + 1, out);
-    }
+    hn::Vec<decltype(d)> angle[3], field[6];
+    for (int k = 0; k < 3; ++k) angle[k] = hn::GatherIndex(d, a + k, in);
+    SinesCosines(d, angle, field);
+    for (int f = 0; f < 6; ++f) hn::ScatterIndex(field[f], d, t + f, out);
   };
   std::size_t k = 0;
   for (; k + n <= count; k += n) block(angles + k, trig + 6 * k);
@@ -113,9 +119,9 @@ HWY_INLINE void DeriveFields(D d, V* field) {
 }
 
 // The derived quantities of ScatterGeometry (eqs 5, 6, 10; geometry.h) from the sines and cosines
-// trig[6 k .. 6 k + 5], lane by lane, stored into geos[k]. Every query of a process goes through
-// this one function (make_scatter_geometries, scatter_geometry_from_trig), so a query gives the same
-// bits on every path (the compiler may fuse a multiply and an add on targets with FMA).
+// trig[6 k .. 6 k + 5], lane by lane, stored into geos[k]: scatter_geometry_from_trig, the bake's
+// rows and ScatterGeometries' fallback. Every path derives the fields by DeriveFields, so a query
+// gives the same bits on every path (the compiler may fuse a multiply and an add on targets with FMA).
 void GeometriesFromTrig(const double* trig, std::size_t count, ScatterGeometry* geos) {
   const hn::ScalableTag<double> d;
   const hn::RebindToSigned<decltype(d)> di;
@@ -144,7 +150,7 @@ void GeometriesFromTrig(const double* trig, std::size_t count, ScatterGeometry* 
 }
 
 // make_scatter_geometries in one pass: each vector of queries' angles loaded de-interleaved, their
-// sines and cosines (hn::Sin/Cos, as ScatterTrig) and DeriveFields in registers, then stored. The
+// sines and cosines (SinesCosines, as ScatterTrig) and DeriveFields in registers, then stored. The
 // sines and cosines no longer go through a buffer (6 scatters and 6 gathers per vector), and the
 // angles are read without gathers. Vectors with an azimuth beyond Highway's range and the
 // remainder go through ScatterTrig + GeometriesFromTrig: the same values either way (bit for bit
@@ -167,16 +173,14 @@ void ScatterGeometries(const ScatterAngles* angles, std::size_t count, ScatterGe
   const double* a = reinterpret_cast<const double*>(angles);
   std::size_t k = 0;
   for (; k + n <= count; k += n) {
-    V ti, ts, ps;
-    hn::LoadInterleaved3(d, a + 3 * k, ti, ts, ps);
-    if (!hn::AllTrue(d, hn::Le(hn::Abs(ps), phi_limit))) {
+    V angle[3];
+    hn::LoadInterleaved3(d, a + 3 * k, angle[0], angle[1], angle[2]);
+    if (!hn::AllTrue(d, hn::Le(hn::Abs(angle[2]), phi_limit))) {
       two_step(k, n);
       continue;
     }
     V field[10];
-    field[kCosI] = hn::Cos(d, ti), field[kSinI] = hn::Sin(d, ti);
-    field[kCosS] = hn::Cos(d, ts), field[kSinS] = hn::Sin(d, ts);
-    field[kCosPhi] = hn::Cos(d, ps), field[kSinPhi] = hn::Sin(d, ps);
+    SinesCosines(d, angle, field);
     DeriveFields(d, field);
     StoreRecords(d, field, geos + k);
   }
@@ -250,7 +254,7 @@ void RenormalizationSpan(const KTableView& table, const ScatterGeometry* geos, s
     // (q, q') of nodes j and j + 1 are the 4 doubles from 2 j on.
     const auto at = hn::ShiftLeft<1>(hn::ConvertTo(di, cell));
     auto value = [&](int e) { return hn::GatherIndex(d, table.dense + e, at); };
-    // Cubic Hermite basis (as RenormalizationTable::operator()).
+    // Cubic Hermite basis (as renormalization.cpp's hermite_cell).
     const V h00 = hn::Add(hn::Sub(hn::Mul(two, t3), hn::Mul(three, t2)), one);
     const V h10 = hn::Add(hn::Sub(t3, hn::Mul(two, t2)), t);
     const V h01 = hn::Add(hn::Mul(hn::Set(d, -2.0), t3), hn::Mul(three, t2));

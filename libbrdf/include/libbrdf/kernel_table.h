@@ -52,7 +52,7 @@ class KernelTable {
   static std::vector<double> compute_nodes();
 
   // True when (g, c) lies inside the table: kKernelGMin <= g <= kKernelGMax, z <= kKernelZMax.
-  bool contains(double g, double c) const {  // inline: asf_auto_batch asks it for every query
+  bool contains(double g, double c) const {  // inline: asf_regime asks it for every scalar query
     return g >= kKernelGMin && g <= kKernelGMax && c >= 0.0 && c <= kKernelZMax * kKernelZMax * (g + 1.0);
   }
   // Sigma(g, c) by bicubic Hermite interpolation of ln Sigma; only for contains(g, c).
