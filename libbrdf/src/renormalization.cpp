@@ -208,11 +208,16 @@ std::vector<double> hermite_slopes(const std::vector<double>& f) {
   return slope;
 }
 
+// The cubic Hermite interpolant at t in [0, 1] of values f0, f1 and slopes s0, s1 (per cell).
+double hermite_cell(double f0, double s0, double f1, double s1, double t) {
+  const double t2 = t * t, t3 = t2 * t;
+  const double h00 = 2 * t3 - 3 * t2 + 1, h10 = t3 - 2 * t2 + t, h01 = -2 * t3 + 3 * t2, h11 = t3 - t2;
+  return h00 * f0 + h10 * s0 + h01 * f1 + h11 * s1;
+}
+
 double hermite(const std::vector<double>& f, const std::vector<double>& slope, double x) {
   const int i = std::min(static_cast<int>(x), static_cast<int>(f.size()) - 2);
-  const double t = x - i, t2 = t * t, t3 = t2 * t;
-  const double h00 = 2 * t3 - 3 * t2 + 1, h10 = t3 - 2 * t2 + t, h01 = -2 * t3 + 3 * t2, h11 = t3 - t2;
-  return h00 * f[i] + h10 * slope[i] + h01 * f[i + 1] + h11 * slope[i + 1];
+  return hermite_cell(f[i], slope[i], f[i + 1], slope[i + 1], x - i);
 }
 }  // namespace
 
@@ -307,10 +312,8 @@ double RenormalizationTable::operator()(double theta_i) const {
   }
   const double x = u * dense_scale_;
   const int j = std::min(static_cast<int>(x), static_cast<int>(dense_.size() / 2) - 2);
-  const double t = x - j, t2 = t * t, t3 = t2 * t;
-  const double h00 = 2 * t3 - 3 * t2 + 1, h10 = t3 - 2 * t2 + t, h01 = -2 * t3 + 3 * t2, h11 = t3 - t2;
-  const double* cell = &dense_[2 * static_cast<std::size_t>(j)];
-  const double q = std::max(0.0, h00 * cell[0] + h10 * cell[1] + h01 * cell[2] + h11 * cell[3]);
+  const double* cell = &dense_[2 * static_cast<std::size_t>(j)];  // (q, q') of nodes j, j + 1
+  const double q = std::max(0.0, hermite_cell(cell[0], cell[1], cell[2], cell[3], x - j));
   return (mode_ == KMode::plane ? 1.0 : 0.0) + ci * ci * q;
 }
 
