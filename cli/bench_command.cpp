@@ -98,21 +98,31 @@ std::vector<double> values_on(const QuerySet& q, const Evaluator& f) {
   return out;
 }
 
-// Single-threaded evaluations per second: whole passes over the set until min_seconds elapsed.
-double evals_per_second(const QuerySet& q, const Evaluator& f, double min_seconds) {
+// A single-thread rate: whole passes (each returns how many evaluations it made) until
+// min_seconds of wall time elapsed.
+double rate_per_second(const std::function<std::size_t()>& pass, double min_seconds) {
   using clock = std::chrono::steady_clock;
-  volatile double sink = 0.0;
   std::size_t count = 0;
   const auto start = clock::now();
   double elapsed = 0.0;
   do {
-    double sum = 0.0;
-    for (const ScatterGeometry& g : q.geometries) sum += f(g);
-    sink = sink + sum;
-    count += q.geometries.size();
+    count += pass();
     elapsed = std::chrono::duration<double>(clock::now() - start).count();
   } while (elapsed < min_seconds);
   return double(count) / elapsed;
+}
+
+// Single-threaded evaluations per second: whole passes over the set.
+double evals_per_second(const QuerySet& q, const Evaluator& f, double min_seconds) {
+  volatile double sink = 0.0;
+  return rate_per_second(
+      [&] {
+        double sum = 0.0;
+        for (const ScatterGeometry& g : q.geometries) sum += f(g);
+        sink = sink + sum;
+        return q.geometries.size();
+      },
+      min_seconds);
 }
 
 void fill_errors(Row& row, const std::vector<double>& values, const std::vector<double>& reference) {
@@ -313,16 +323,12 @@ class Bench {
     run();
     Row row{"fast_path", "asf", s.name, variant, "", ""};
     fill_errors(row, values, ref.values);
-    using clock = std::chrono::steady_clock;
-    std::size_t done = 0;
-    const auto start = clock::now();
-    double elapsed = 0.0;
-    do {
-      run();
-      done += n;
-      elapsed = std::chrono::duration<double>(clock::now() - start).count();
-    } while (elapsed < min_seconds_);
-    row.evals_per_s = double(done) / elapsed;
+    row.evals_per_s = rate_per_second(
+        [&] {
+          run();
+          return n;
+        },
+        min_seconds_);
     row.speed_ratio = row.evals_per_s / ref.evals_per_s;
     row.speed_vs_landed = row.evals_per_s / landed;
     rows_.push_back(row);
@@ -388,17 +394,13 @@ class Bench {
     };
     fill_errors(row, values_on(full_, green), ref.values);
     // Timed through the batch API (libbrdf/batch.h) on one thread, as a renderer would call it.
-    using clock = std::chrono::steady_clock;
     std::vector<double> out(full_.geometries.size() * 3);
-    std::size_t done = 0;
-    const auto start = clock::now();
-    double elapsed = 0.0;
-    do {
-      libbrdf::lookup_all_batch(lut, full_.geometries.data(), full_.geometries.size(), out.data());
-      done += full_.geometries.size();
-      elapsed = std::chrono::duration<double>(clock::now() - start).count();
-    } while (elapsed < min_seconds_);
-    row.evals_per_s = double(done) / elapsed;
+    row.evals_per_s = rate_per_second(
+        [&] {
+          libbrdf::lookup_all_batch(lut, full_.geometries.data(), full_.geometries.size(), out.data());
+          return full_.geometries.size();
+        },
+        min_seconds_);
     row.speed_ratio = row.evals_per_s / ref.evals_per_s;
     rows_.push_back(row);
   }
