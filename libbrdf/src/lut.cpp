@@ -341,7 +341,7 @@ void detail::kernel_closed_form_span(const Lut& lut, int channel, const ScatterG
   else if (lut.kernel_model == ModelKind::bk_modified)
     for (std::size_t k = 0; k < count; ++k) out[k] *= inverse_s_term_eq28(geos[k]);
   else if (lut.kernel_model == ModelKind::mbk_fg && lut.kernel_angular == KernelAngular::closed_form)
-    for (std::size_t k = 0; k < count; ++k)  // eq. 31's G / S (Model::combine)
+    for (std::size_t k = 0; k < count; ++k)  // eq. 31's G / S (Model::combine_span)
       out[k] *= geometric_term(lut.kernel_g_term[channel], geos[k], lut.kernel_sigma_g[channel]) / s_term(geos[k]);
 }
 

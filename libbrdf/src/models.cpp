@@ -180,7 +180,7 @@ double Model::asf_at(const ScatterGeometry& geo) const {
 }
 
 namespace {
-// Which of Model::Factors a model multiplies (the formulas in Model::combine).
+// Which factors a model multiplies (the formulas in Model::combine_span).
 struct FactorNeeds {
   bool k = false, q_bar = false, fresnel_d = false, asf = false;
 };
@@ -198,7 +198,7 @@ FactorNeeds factor_needs(ModelKind kind, const ModelParameters& p, double sigma_
       needs.k = !p.rho_s.has_value();  // rho_s = K (conventions.md)
       needs.fresnel_d = sigma_g > 0.0;
       break;
-    default: break;  // the other quantities are computed whole by combine()
+    default: break;  // the other quantities are computed whole by combine_span()
   }
   return needs;
 }
@@ -208,12 +208,14 @@ double theta_i_of(const ScatterGeometry& geo) { return std::atan2(geo.sin_theta_
 
 double Model::evaluate_impl(const ScatterGeometry& geo, const double* asf_given) const {
   const FactorNeeds needs = factor_needs(kind_, params_, sigma_g_);
-  Factors f;
-  if (needs.k) f.k = renormalization(theta_i_of(geo));
-  if (needs.q_bar) f.q_bar = stover_q(permittivity_, geo).q_bar();
-  if (needs.fresnel_d) f.fresnel_d = fresnel_reflectance(permittivity_, geo.cos_theta_d);
-  if (needs.asf) f.asf = asf_given ? *asf_given : asf_at(geo);
-  return combine(geo, f);
+  double k = 1.0, q_bar = 0.0, fresnel_d = 0.0, asf = 0.0;
+  if (needs.k) k = renormalization(theta_i_of(geo));
+  if (needs.q_bar) q_bar = stover_q(permittivity_, geo).q_bar();
+  if (needs.fresnel_d) fresnel_d = fresnel_reflectance(permittivity_, geo.cos_theta_d);
+  if (needs.asf) asf = asf_given ? *asf_given : asf_at(geo);
+  double value = 0.0;
+  combine_span(&geo, 1, FactorSpans{&k, &q_bar, &fresnel_d, &asf}, &value);
+  return value;
 }
 
 void Model::evaluate_many(const ScatterGeometry* geos, std::size_t count, double* out, const double* asf) const {
@@ -233,59 +235,67 @@ void Model::evaluate_many(const ScatterGeometry* geos, std::size_t count, double
     // The ASF of the span in SIMD lanes (asf_auto_batch: asf_auto's method per query, each lane
     // alone, so a value depends on its own geometry only: batch.h's scalar and array calls agree).
     if (needs.asf && !asf) asf_auto_geometries(surface_, span, n, params_.tolerance, params_.series, a);
-    for (std::size_t j = 0; j < n; ++j) {
-      Factors f;
-      if (needs.k) f.k = k[j];
-      if (needs.q_bar) f.q_bar = q_bar[j];
-      if (needs.fresnel_d) f.fresnel_d = fresnel_d[j];
-      if (needs.asf) f.asf = asf ? asf[begin + j] : a[j];
-      out[begin + j] = combine(span[j], f);
-    }
+    combine_span(span, n, FactorSpans{k, q_bar, fresnel_d, asf ? asf + begin : a}, out + begin);
   }
 }
 
-double Model::combine(const ScatterGeometry& geo, const Factors& f) const {
+void Model::combine_span(const ScatterGeometry* geos, std::size_t count, const FactorSpans& f, double* out) const {
+  // One loop per model around its formula (`each`, inlined): the compiler vectorises the factor
+  // products. A per-query call of a combine(geo, factors) cost ~2 ns, as much as asf's own table
+  // lookup without it (in cache, one thread: asf 9.5 -> 7.4 ns, mbk 16.5 -> 14.4 ns per query).
+  auto each = [&](auto&& formula) {
+    for (std::size_t j = 0; j < count; ++j) out[j] = formula(j);
+  };
+  const double sigma_over_lambda = surface_.sigma_over_lambda();
   switch (kind_) {
-    case ModelKind::fresnel: return f.fresnel_d;
-    case ModelKind::q: return f.q_bar;
-    case ModelKind::q_ss: return stover_q(permittivity_, geo).ss;
-    case ModelKind::q_sp: return stover_q(permittivity_, geo).sp;
-    case ModelKind::q_ps: return stover_q(permittivity_, geo).ps;
-    case ModelKind::q_pp: return stover_q(permittivity_, geo).pp;
-    case ModelKind::s: return s_term(geo);
-    case ModelKind::rd: return relative_difference_rd(permittivity_, geo);
-    case ModelKind::g: return roughness_g(surface_.sigma_over_lambda(), geo.cos_theta_i, geo.cos_theta_s);
-    case ModelKind::eta_r2: return geo.eta_r2;
-    case ModelKind::asf: return f.asf;  // K = 1; method by the tolerance (asf_auto)
-    case ModelKind::k: return renormalization_direct(surface_, theta_i_of(geo), params_.k_mode).k;
-    case ModelKind::r_spec: return specular_reflectance(theta_i_of(geo));
+    case ModelKind::fresnel: return each([&](std::size_t j) { return f.fresnel_d[j]; });
+    case ModelKind::q: return each([&](std::size_t j) { return f.q_bar[j]; });
+    case ModelKind::q_ss: return each([&](std::size_t j) { return stover_q(permittivity_, geos[j]).ss; });
+    case ModelKind::q_sp: return each([&](std::size_t j) { return stover_q(permittivity_, geos[j]).sp; });
+    case ModelKind::q_ps: return each([&](std::size_t j) { return stover_q(permittivity_, geos[j]).ps; });
+    case ModelKind::q_pp: return each([&](std::size_t j) { return stover_q(permittivity_, geos[j]).pp; });
+    case ModelKind::s: return each([&](std::size_t j) { return s_term(geos[j]); });
+    case ModelKind::rd: return each([&](std::size_t j) { return relative_difference_rd(permittivity_, geos[j]); });
+    case ModelKind::g:
+      return each([&](std::size_t j) { return roughness_g(sigma_over_lambda, geos[j].cos_theta_i, geos[j].cos_theta_s); });
+    case ModelKind::eta_r2: return each([&](std::size_t j) { return geos[j].eta_r2; });
+    case ModelKind::asf: return each([&](std::size_t j) { return f.asf[j]; });  // K = 1; method by the tolerance (asf_auto)
+    case ModelKind::k:
+      return each([&](std::size_t j) { return renormalization_direct(surface_, theta_i_of(geos[j]), params_.k_mode).k; });
+    case ModelKind::r_spec: return each([&](std::size_t j) { return specular_reflectance(theta_i_of(geos[j])); });
     case ModelKind::mbk:  // K Qbar A, eq. 11 x Q (conventions.md: Qbar)
-      return f.k * f.q_bar * f.asf;
-    case ModelKind::mbk_polished: {  // eq. 14 with Qbar: K = 1, e^-g = 1, m = 1
-      const AsfArguments a = asf_arguments(surface_, geo);
-      return f.q_bar * a.prefactor * mbk_series_polished(a.g, a.c);
-    }
-    case ModelKind::mbk_rough: {  // eq. 15 with Qbar and K
-      const AsfArguments a = asf_arguments(surface_, geo);
-      return f.k * f.q_bar * a.prefactor * mbk_series_rough(a.g, a.c);
-    }
+      return each([&](std::size_t j) { return f.k[j] * f.q_bar[j] * f.asf[j]; });
+    case ModelKind::mbk_polished:  // eq. 14 with Qbar: K = 1, e^-g = 1, m = 1
+      return each([&](std::size_t j) {
+        const AsfArguments a = asf_arguments(surface_, geos[j]);
+        return f.q_bar[j] * a.prefactor * mbk_series_polished(a.g, a.c);
+      });
+    case ModelKind::mbk_rough:  // eq. 15 with Qbar and K
+      return each([&](std::size_t j) {
+        const AsfArguments a = asf_arguments(surface_, geos[j]);
+        return f.k[j] * f.q_bar[j] * a.prefactor * mbk_series_rough(a.g, a.c);
+      });
     case ModelKind::mbk_fg:  // eq. 31's form: K F(td) G / S * A
-      return f.k * f.fresnel_d * geometric_term(params_.g_term, geo, sigma_g_) / s_term(geo) * f.asf;
+      return each([&](std::size_t j) {
+        return f.k[j] * f.fresnel_d[j] * geometric_term(params_.g_term, geos[j], sigma_g_) / s_term(geos[j]) * f.asf[j];
+      });
     case ModelKind::bk:  // F(td) F_bk^2 A, eq. 26
-      return f.fresnel_d * bk_geometric_factor_eq26(geo) * f.asf;
+      return each([&](std::size_t j) { return f.fresnel_d[j] * bk_geometric_factor_eq26(geos[j]) * f.asf[j]; });
     case ModelKind::bk_modified:  // F(td) (1/S) A, eq. 28
-      return f.fresnel_d * inverse_s_term_eq28(geo) * f.asf;
-    case ModelKind::microfacet: {  // eq. 2 surface term + Lambertian
-      const double rho_s = params_.rho_s ? *params_.rho_s : f.k;  // rho_s = K
-      double specular = 0.0;
-      if (sigma_g_ > 0.0) {
-        specular = rho_s * f.fresnel_d * gaussian_facet_distribution(geo.cos_theta_h, sigma_g_) *
-                   geometric_term(params_.g_term, geo, sigma_g_) / (4.0 * geo.cos_theta_i * geo.cos_theta_s);
-      }
-      return specular + params_.rho_d / kPi;
-    }
+      return each([&](std::size_t j) { return f.fresnel_d[j] * inverse_s_term_eq28(geos[j]) * f.asf[j]; });
+    case ModelKind::microfacet:  // eq. 2 surface term + Lambertian
+      return each([&](std::size_t j) {
+        const ScatterGeometry& geo = geos[j];
+        const double rho_s = params_.rho_s ? *params_.rho_s : f.k[j];  // rho_s = K
+        double specular = 0.0;
+        if (sigma_g_ > 0.0) {
+          specular = rho_s * f.fresnel_d[j] * gaussian_facet_distribution(geo.cos_theta_h, sigma_g_) *
+                     geometric_term(params_.g_term, geo, sigma_g_) / (4.0 * geo.cos_theta_i * geo.cos_theta_s);
+        }
+        return specular + params_.rho_d / kPi;
+      });
   }
-  return 0.0;
+  std::fill(out, out + count, 0.0);
 }
 
 }  // namespace libbrdf

@@ -115,16 +115,17 @@ class Model {
   double sigma_g_ = 0.0;
   std::shared_ptr<const RenormalizationTable> k_table_;
 
-  // The factors a model multiplies (those it needs; the others stay unset): computed per query by
-  // evaluate() and over spans by evaluate_many(), then combined by the one formula per model.
-  struct Factors {
-    double k = 1.0;          // K(theta_i), eq. 13 (table)
-    double q_bar = 0.0;      // Stover's Qbar
-    double fresnel_d = 0.0;  // F(theta_d)
-    double asf = 0.0;        // A of eq. 11 (K = 1)
+  // The factors a model multiplies, over a span (those it needs; the others are not read): computed
+  // per query by evaluate() and over spans by evaluate_many(), then combined by the one formula per
+  // model, combine_span (out[j] for j < count).
+  struct FactorSpans {
+    const double* k;          // K(theta_i), eq. 13 (table)
+    const double* q_bar;      // Stover's Qbar
+    const double* fresnel_d;  // F(theta_d)
+    const double* asf;        // A of eq. 11 (K = 1)
   };
   double evaluate_impl(const ScatterGeometry& geo, const double* asf_given) const;
-  double combine(const ScatterGeometry& geo, const Factors& f) const;
+  void combine_span(const ScatterGeometry* geos, std::size_t count, const FactorSpans& f, double* out) const;
 };
 
 // One Model per channel (wavelength) of a multi-channel material, in the channels' order.
