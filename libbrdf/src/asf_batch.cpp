@@ -278,8 +278,9 @@ std::size_t SeriesQueryLanes(const double* g, const double* c, std::size_t count
 // 9.0 -> 8.7, intermediate unchanged.
 constexpr std::size_t kTableChunk = 64;
 
-std::size_t KernelTableLanes(const double* nodes, int nx, int nz, double x_min, double dx, double dz, const double* g,
-                             const double* c, std::size_t count, double scale, double* sigma, std::uint32_t* outside) {
+std::size_t KernelTableLanes(const double* nodes, int nx, int nz, double x_min, double dx, double dz, bool prefetch_rows,
+                             const double* g, const double* c, std::size_t count, double scale, double* sigma,
+                             std::uint32_t* outside) {
   const hn::ScalableTag<double> d;
   const hn::RebindToSigned<decltype(d)> di;
   using V = hn::Vec<decltype(d)>;
@@ -327,12 +328,14 @@ std::size_t KernelTableLanes(const double* nodes, int nx, int nz, double x_min, 
       const V fi = hn::Min(hn::Floor(ux), hn::Set(d, nx - 2.0)), fj = hn::Min(hn::Floor(uz), hn::Set(d, nz - 2.0));
       hn::Store(hn::Sub(ux, fi), d, s_chunk + k), hn::Store(hn::Sub(uz, fj), d, t_chunk + k);
       hn::Store(hn::ConvertTo(di, hn::Mul(hn::Set(d, 4.0), hn::MulAdd(fi, hn::Set(d, nz), fj))), di, node_chunk + k);
-      for (std::size_t q = 0; q < n; ++q)
-        for (std::ptrdiff_t a = 0; a < 2; ++a) {
-          const double* row = nodes + node_chunk[k + q] + a * row_stride;
-          hwy::Prefetch(row);
-          hwy::Prefetch(row + 7);
-        }
+      if (prefetch_rows) {
+        for (std::size_t q = 0; q < n; ++q)
+          for (std::ptrdiff_t a = 0; a < 2; ++a) {
+            const double* row = nodes + node_chunk[k + q] + a * row_stride;
+            hwy::Prefetch(row);
+            hwy::Prefetch(row + 7);
+          }
+      }
     }
   };
   auto interpolate = [&](std::size_t k0, const Cells& at) {
@@ -400,9 +403,10 @@ std::size_t series_query_lanes(const double* g, const double* c, std::size_t cou
   return HWY_DYNAMIC_DISPATCH(SeriesQueryLanes)(g, c, count, relative_tolerance, sigma, rejected);
 }
 
-std::size_t kernel_table_lanes(const double* nodes, int nx, int nz, double x_min, double dx, double dz, const double* g,
-                               const double* c, std::size_t count, double scale, double* out, std::uint32_t* outside) {
-  return HWY_DYNAMIC_DISPATCH(KernelTableLanes)(nodes, nx, nz, x_min, dx, dz, g, c, count, scale, out, outside);
+std::size_t kernel_table_lanes(const double* nodes, int nx, int nz, double x_min, double dx, double dz, bool prefetch_rows,
+                               const double* g, const double* c, std::size_t count, double scale, double* out,
+                               std::uint32_t* outside) {
+  return HWY_DYNAMIC_DISPATCH(KernelTableLanes)(nodes, nx, nz, x_min, dx, dz, prefetch_rows, g, c, count, scale, out, outside);
 }
 }  // namespace detail
 
@@ -417,7 +421,7 @@ void asf_auto_batch(const double* g, const double* c, std::size_t count, double 
   SeriesOptions series = options;
   series.relative_tolerance = detail::auto_series_truncation(tolerance, options.relative_tolerance);
   const bool lanes = series.relative_tolerance >= detail::kLaneMinTolerance;
-  const KernelTable* table = detail::kernel_table_allowed(tolerance, options.allow_kernel_table) ? &KernelTable::instance() : nullptr;
+  const KernelTable* table = options.allow_kernel_table ? KernelTable::for_tolerance(tolerance) : nullptr;
   constexpr std::size_t kChunk = 1024;
   alignas(64) double series_g[kChunk], series_c[kChunk], series_sigma[kChunk];
   std::uint32_t others[kChunk], series_index[kChunk], rejected[kChunk];

@@ -28,7 +28,9 @@ std::size_t series_query_lanes(const double* g, const double* c, std::size_t cou
 // for every query inside the table (KernelTable::contains, the same test lane by lane). Returns the
 // number of queries outside, their indices in outside[] (out[k] is unspecified there: the caller
 // evaluates them otherwise). nodes: 4 doubles per node (F, F_x, F_z, F_xz), node (i, j) at 4 (i nz + j).
-std::size_t kernel_table_lanes(const double* nodes, int nx, int nz, double x_min, double dx, double dz, const double* g,
-                               const double* c, std::size_t count, double scale, double* out, std::uint32_t* outside);
+// prefetch_rows: KernelTableSpec's.
+std::size_t kernel_table_lanes(const double* nodes, int nx, int nz, double x_min, double dx, double dz, bool prefetch_rows,
+                               const double* g, const double* c, std::size_t count, double scale, double* out,
+                               std::uint32_t* outside);
 
 }  // namespace libbrdf::detail

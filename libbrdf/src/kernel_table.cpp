@@ -38,14 +38,18 @@ void node_values(double x, double z, double* out) {
   out[3] = 2.0 * z * (-g * m.c * inv_a + (g + 1.0) * ((-m.d + gz2 * m.e) * inv_a + m.c * fx_num * inv_a * inv_a));
 }
 
+const KernelTableSpec& spec_of(KernelTable::Tier tier) {
+  return tier == KernelTable::Tier::fine ? kKernelTableFine : kKernelTableCoarse;
+}
+
 }  // namespace
 
 namespace detail {
-KernelGrid kernel_grid() {
+KernelGrid kernel_grid(const KernelTableSpec& spec) {
   KernelGrid grid;
   grid.x_min = std::log(kKernelGMin);
-  grid.dx = 1.0 / kKernelNodesPerUnitX;
-  grid.dz = 1.0 / kKernelNodesPerUnitZ;
+  grid.dx = 1.0 / spec.nodes_per_unit_x;
+  grid.dz = 1.0 / spec.nodes_per_unit_z;
   // One cell beyond each end so that every in-domain query has a full cell.
   grid.nx = static_cast<int>(std::ceil((std::log(kKernelGMax) - grid.x_min) / grid.dx)) + 2;
   grid.nz = static_cast<int>(std::ceil(kKernelZMax / grid.dz)) + 2;
@@ -53,8 +57,8 @@ KernelGrid kernel_grid() {
 }
 }  // namespace detail
 
-std::vector<double> KernelTable::compute_nodes() {
-  const detail::KernelGrid grid = detail::kernel_grid();
+std::vector<double> KernelTable::compute_nodes(Tier tier) {
+  const detail::KernelGrid grid = detail::kernel_grid(spec_of(tier));
   std::vector<double> nodes(static_cast<std::size_t>(grid.nx) * grid.nz * 4, 0.0);
   tbb::parallel_for(tbb::blocked_range<int>(0, grid.nx), [&](const tbb::blocked_range<int>& rows) {
     for (int i = rows.begin(); i != rows.end(); ++i)
@@ -64,29 +68,46 @@ std::vector<double> KernelTable::compute_nodes() {
   return nodes;
 }
 
-const KernelTable& KernelTable::instance() {
-  static const KernelTable table;  // C++11: thread-safe initialisation
-  return table;
+const KernelTable& KernelTable::instance(Tier tier) {
+  static const KernelTable fine(Tier::fine), coarse(Tier::coarse);  // C++11: thread-safe initialisation
+  return tier == Tier::fine ? fine : coarse;
 }
 
-KernelTable::KernelTable() {
+const KernelTable* KernelTable::for_tolerance(double tolerance) {
+  if (tolerance >= kKernelTableCoarse.certified_error) return &instance(Tier::coarse);
+  if (tolerance >= kKernelTableFine.certified_error) return &instance(Tier::fine);
+  return nullptr;
+}
+
+KernelTable::KernelTable(Tier tier) : tier_(tier), spec_(spec_of(tier)) {
   const auto start = std::chrono::steady_clock::now();
-  const detail::KernelGrid grid = detail::kernel_grid();
+  const detail::KernelGrid grid = detail::kernel_grid(spec_);
   nx_ = grid.nx, nz_ = grid.nz, x_min_ = grid.x_min, dx_ = grid.dx, dz_ = grid.dz;
   const detail::EmbeddedKernelTable file = detail::embedded_kernel_table();
   if (file.data == nullptr) {  // the generator itself
-    computed_ = compute_nodes();
+    computed_ = compute_nodes(tier);
     nodes_ = computed_.data();
   } else {
-    // The embedded file must be this grid's: a mismatch is a stale build, never a table to use.
-    detail::KernelTableFileHeader header;
-    const bool sized = file.size >= sizeof header;
-    if (sized) std::memcpy(&header, file.data, sizeof header);
-    if (!sized || std::memcmp(header.magic, detail::kKernelTableMagic, sizeof header.magic) != 0 || header.nx != nx_ ||
-        header.nz != nz_ || header.x_min != x_min_ || header.dx != dx_ || header.dz != dz_ ||
-        header.values != value_count() || file.size != sizeof header + bytes())
-      throw std::logic_error("libbrdf: the embedded kernel table does not match kernel_table.h's grid (stale build: rebuild libbrdf)");
-    nodes_ = reinterpret_cast<const double*>(file.data + sizeof header);
+    // The embedded file holds every tier's section in order; each must be its grid's: a mismatch
+    // is a stale build, never a table to use.
+    std::size_t offset = 0;
+    bool matches = true;
+    for (const Tier section : detail::kKernelTableTiers) {
+      detail::KernelTableFileHeader header;
+      const detail::KernelGrid expected = detail::kernel_grid(spec_of(section));
+      const std::size_t values = static_cast<std::size_t>(expected.nx) * expected.nz * 4;
+      matches = matches && file.size >= offset + sizeof header;
+      if (!matches) break;
+      std::memcpy(&header, file.data + offset, sizeof header);
+      matches = std::memcmp(header.magic, detail::kKernelTableMagic, sizeof header.magic) == 0 && header.nx == expected.nx &&
+                header.nz == expected.nz && header.x_min == expected.x_min && header.dx == expected.dx &&
+                header.dz == expected.dz && header.values == values && file.size >= offset + sizeof header + values * sizeof(double);
+      if (!matches) break;
+      if (section == tier) nodes_ = reinterpret_cast<const double*>(file.data + offset + sizeof header);
+      offset += sizeof header + values * sizeof(double);
+    }
+    if (!matches || offset != file.size)
+      throw std::logic_error("libbrdf: the embedded kernel tables do not match kernel_table.h's grids (stale build: rebuild libbrdf)");
   }
   build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -117,7 +138,7 @@ double KernelTable::sigma(double g, double c) const {
 
 std::size_t KernelTable::scaled_sigma_inside(const double* g, const double* c, std::size_t count, double scale, double* out,
                                              std::uint32_t* outside) const {
-  return detail::kernel_table_lanes(nodes_, nx_, nz_, x_min_, dx_, dz_, g, c, count, scale, out, outside);
+  return detail::kernel_table_lanes(nodes_, nx_, nz_, x_min_, dx_, dz_, spec_.prefetch_rows, g, c, count, scale, out, outside);
 }
 
 void KernelTable::sigma_many(const double* g, const double* c, std::size_t count, double* sigma) const {

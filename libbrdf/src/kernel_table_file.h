@@ -1,9 +1,12 @@
 #pragma once
-// Internal: the kernel table's node file (kernel_table.h). libbrdf_generate_kernel_table writes it
-// at build time; kernel_table_data.S assembles it into the library; KernelTable::instance() checks
-// its header against kernel_table.h's grid and reads the nodes in place.
+// Internal: the kernel tables' node file (kernel_table.h). libbrdf_generate_kernel_table writes it
+// at build time; kernel_table_data.S assembles it into the library; KernelTable::instance(tier)
+// checks its tier's header against kernel_table.h's grid and reads the nodes in place. The file is
+// one section per tier, in KernelTable::Tier's order: a header, then its nodes.
 #include <cstddef>
 #include <cstdint>
+
+#include "libbrdf/kernel_table.h"
 
 namespace libbrdf::detail {
 
@@ -16,16 +19,17 @@ struct KernelTableFileHeader {
   std::uint64_t reserved[2];
 };
 static_assert(sizeof(KernelTableFileHeader) == 64);
-inline constexpr char kKernelTableMagic[8] = {'L', 'B', 'K', 'T', 'A', 'B', '0', '1'};
+inline constexpr char kKernelTableMagic[8] = {'L', 'B', 'K', 'T', 'A', 'B', '0', '2'};
 
-// The grid of kernel_table.h's constants.
+// The grid of a tier (kernel_table.h's constants).
 struct KernelGrid {
   int nx, nz;
   double x_min, dx, dz;
 };
-KernelGrid kernel_grid();
+KernelGrid kernel_grid(const KernelTableSpec& spec);
+inline constexpr KernelTable::Tier kKernelTableTiers[] = {KernelTable::Tier::fine, KernelTable::Tier::coarse};
 
-// The embedded file's bytes; {nullptr, 0} in the generator, which links none.
+// The embedded file's bytes (every tier); {nullptr, 0} in the generator, which links none.
 struct EmbeddedKernelTable {
   const unsigned char* data;
   std::size_t size;

@@ -286,7 +286,7 @@ double asf_auto(const AsfArguments& args, double tolerance, AsfRegime* regime, c
   switch (chosen) {
     case AsfRegime::polished: sum = mbk_series_polished(args.g, args.c); break;
     case AsfRegime::rough: sum = mbk_series_rough(args.g, args.c); break;
-    case AsfRegime::table: sum = KernelTable::instance().sigma(args.g, args.c); break;
+    case AsfRegime::table: sum = KernelTable::for_tolerance(tolerance)->sigma(args.g, args.c); break;  // the coarsest certified
     default: sum = mbk_series_sum(args.g, args.c, series); break;
   }
   if (regime) *regime = chosen;
@@ -294,8 +294,9 @@ double asf_auto(const AsfArguments& args, double tolerance, AsfRegime* regime, c
 }
 
 AsfRegime asf_regime(const AsfArguments& args, double tolerance, bool allow_table) {
-  // The fastest form whose error bound meets the tolerance: the kernel table (its certified error,
-  // kernel_table.h; in lanes it is faster than the scalar closed forms), the closed forms (their
+  // The fastest form whose error bound meets the tolerance: a kernel table (the coarsest whose
+  // certified error does, kernel_table.h; in lanes it is faster than the scalar closed forms; both
+  // tiers have one domain), the closed forms (their
   // leading-order error estimates), else the series.
   if (detail::kernel_table_allowed(tolerance, allow_table) && KernelTable::instance().contains(args.g, args.c))
     return AsfRegime::table;

@@ -31,9 +31,10 @@ inline double auto_series_truncation(double tolerance, double options_tolerance)
   return tolerance > 0.0 && 0.1 * tolerance > options_tolerance ? 0.1 * tolerance : options_tolerance;
 }
 
-// asf_auto's first choice, also asf_auto_batch's: the kernel table, where the options allow it
-// (SeriesOptions::allow_kernel_table) and its certified error meets the tolerance -- for queries
-// inside its domain (KernelTable::contains).
+// asf_auto's first choice, also asf_auto_batch's: a kernel table, where the options allow it
+// (SeriesOptions::allow_kernel_table) and the fine tier's certified error meets the tolerance (then
+// KernelTable::for_tolerance gives the coarsest that does) -- for queries inside the tables' domain
+// (KernelTable::contains).
 inline bool kernel_table_allowed(double tolerance, bool allow_kernel_table) {
   return allow_kernel_table && tolerance >= kKernelTableCertifiedError;
 }

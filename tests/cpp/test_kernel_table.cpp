@@ -9,11 +9,17 @@
 #include <iostream>
 #include <limits>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "libbrdf/kernel_table.h"
 #include "libbrdf/mbk_series.h"
 #include "test_support.h"
+
+namespace libbrdf {
+// How ctest and gtest name a tier.
+void PrintTo(KernelTable::Tier tier, std::ostream* os) { *os << (tier == KernelTable::Tier::fine ? "fine" : "coarse"); }
+}  // namespace libbrdf
 
 namespace {
 
@@ -73,11 +79,21 @@ TEST(FastSeries, HugeAndInfiniteG) {
   EXPECT_TRUE(std::isnan(mbk_series_sum(NAN, 1.0)));  // never hidden as a value (callers validate)
 }
 
-// The certified error of the kernel table: every cell of the domain at its centre and at a random
-// point, against the reference series (every term, 1e-16). The claim (kernel_table.h) must hold
-// with a margin of 2 (what a cell centre misses of its worst point).
-TEST(KernelTable, CertifiedErrorHoldsOverTheWholeDomain) {
-  const KernelTable& table = KernelTable::instance();
+// Every test below runs on each tier of the table (kernel_table.h: fine 1e-6, coarse 1e-4).
+class KernelTableTier : public ::testing::TestWithParam<KernelTable::Tier> {
+ protected:
+  const KernelTable& table = KernelTable::instance(GetParam());
+};
+INSTANTIATE_TEST_SUITE_P(Tiers, KernelTableTier, ::testing::Values(KernelTable::Tier::fine, KernelTable::Tier::coarse),
+                         [](const ::testing::TestParamInfo<KernelTable::Tier>& tier) {
+                           return std::string(tier.param == KernelTable::Tier::fine ? "fine" : "coarse");
+                         });
+
+// The certified error of the kernel table: every cell of the domain (in z every row of cells of
+// ~150 evenly spaced) at its centre and at a random point, against the reference series (every
+// term, 1e-16). The claim (kernel_table.h) must hold with a margin of 2 (what a cell centre misses
+// of its worst point).
+TEST_P(KernelTableTier, CertifiedErrorHoldsOverTheWholeDomain) {
   std::cout << "[ measured ] kernel table " << table.nx() << " x " << table.nz() << " nodes, " << static_cast<double>(table.bytes()) / 1e6
             << " MB, built in " << table.build_seconds() << " s\n";
   SeriesOptions reference;
@@ -89,7 +105,7 @@ TEST(KernelTable, CertifiedErrorHoldsOverTheWholeDomain) {
   double worst = 0.0, worst_g = 0.0, worst_z = 0.0;
   long long compared = 0;
   for (int i = 0; i + 1 < table.nx(); ++i) {
-    for (int j = 0; j + 1 < table.nz(); j += 6) {  // every sixth row of cells in z: 83k cells
+    for (int j = 0; j + 1 < table.nz(); j += table.nz() / 150) {  // fine: every sixth row of cells, 83k cells
       for (int point = 0; point < 2; ++point) {
         const double s = point == 0 ? 0.5 : unit(rng), t = point == 0 ? 0.5 : unit(rng);
         const double x = table.x_min() + (i + s) * table.dx(), z = (j + t) * table.dz();
@@ -109,18 +125,17 @@ TEST(KernelTable, CertifiedErrorHoldsOverTheWholeDomain) {
     }
   }
   std::cout << "[ measured ] kernel table max relative error " << worst << " at g=" << worst_g << " z=" << worst_z
-            << " over " << compared << " points (certified " << kKernelTableCertifiedError << ")\n";
+            << " over " << compared << " points (certified " << table.certified_error() << ")\n";
   EXPECT_GT(compared, 40000);
-  EXPECT_LT(2.0 * worst, kKernelTableCertifiedError);
+  EXPECT_LT(2.0 * worst, table.certified_error());
 }
 
 // The table the library embeds (computed at build time by libbrdf_generate_kernel_table) is the
 // one its nodes' formula gives now, bit for bit: the build's output is reproducible and not stale.
-TEST(KernelTable, EmbeddedIsTheComputedTableBitForBit) {
-  const KernelTable& table = KernelTable::instance();
+TEST_P(KernelTableTier, EmbeddedIsTheComputedTableBitForBit) {
   EXPECT_TRUE(table.embedded());
   EXPECT_LT(table.build_seconds(), 0.01) << "an embedded table costs a process nothing to start";
-  const std::vector<double> computed = KernelTable::compute_nodes();
+  const std::vector<double> computed = KernelTable::compute_nodes(GetParam());
   ASSERT_EQ(computed.size(), table.value_count());
   std::size_t differing = 0, non_finite = 0;
   for (std::size_t k = 0; k < computed.size(); ++k) {
@@ -131,8 +146,7 @@ TEST(KernelTable, EmbeddedIsTheComputedTableBitForBit) {
   EXPECT_EQ(non_finite, 0u) << "ln Sigma and its derivatives are finite at every node";
 }
 
-TEST(KernelTable, DomainEdges) {
-  const KernelTable& table = KernelTable::instance();
+TEST_P(KernelTableTier, DomainEdges) {
   EXPECT_FALSE(table.contains(0.5 * kKernelGMin, 0.0));
   EXPECT_FALSE(table.contains(2.0 * kKernelGMax, 0.0));
   EXPECT_FALSE(table.contains(1.0, 2.0 * (kKernelZMax * kKernelZMax) * 2.0));
@@ -141,15 +155,25 @@ TEST(KernelTable, DomainEdges) {
   // The largest g and z uses a cell of the table, not one beyond it (at z = kKernelZMax itself
   // Sigma ~ e^-900 / g underflows, so z = 25 here).
   const double g = kKernelGMax, c = 25.0 * 25.0 * (g + 1.0);
-  EXPECT_NEAR(table.sigma(g, c) / mbk_series_sum(g, c), 1.0, kKernelTableCertifiedError);
+  EXPECT_NEAR(table.sigma(g, c) / mbk_series_sum(g, c), 1.0, table.certified_error());
 }
 
-// asf_auto at a tolerance at or above the certified error uses the table inside its domain, and
-// never below it.
+// asf_auto at a tolerance at or above a tier's certified error uses the coarsest such table inside
+// the domain (its very value), and no table below the fine one's error.
 TEST(KernelTable, ChosenOnlyWhereCertified) {
+  const KernelTable& fine = KernelTable::instance(KernelTable::Tier::fine);
+  const KernelTable& coarse = KernelTable::instance(KernelTable::Tier::coarse);
+  EXPECT_EQ(KernelTable::for_tolerance(1e-2), &coarse);
+  EXPECT_EQ(KernelTable::for_tolerance(coarse.certified_error()), &coarse);
+  EXPECT_EQ(KernelTable::for_tolerance(0.5 * coarse.certified_error()), &fine);
+  EXPECT_EQ(KernelTable::for_tolerance(fine.certified_error()), &fine);
+  EXPECT_EQ(KernelTable::for_tolerance(0.5 * fine.certified_error()), nullptr);
   AsfRegime regime;
-  asf_auto(AsfArguments{3.0, 10.0, 1.0}, kKernelTableCertifiedError, &regime);
-  EXPECT_EQ(regime, AsfRegime::table);
+  for (const KernelTable* table : {&fine, &coarse}) {
+    EXPECT_EQ(asf_auto(AsfArguments{3.0, 10.0, 1.0}, table->certified_error(), &regime), table->sigma(3.0, 10.0));
+    EXPECT_EQ(regime, AsfRegime::table);
+  }
+  EXPECT_NE(fine.sigma(3.0, 10.0), coarse.sigma(3.0, 10.0));  // two tables, not one
   asf_auto(AsfArguments{3.0, 10.0, 1.0}, 0.5 * kKernelTableCertifiedError, &regime);
   EXPECT_EQ(regime, AsfRegime::series);
   asf_auto(AsfArguments{0.5 * kKernelGMin, 1e3, 1.0}, 1e-2, &regime);
@@ -159,8 +183,7 @@ TEST(KernelTable, ChosenOnlyWhereCertified) {
 // The lookup in SIMD lanes (sigma_many, gathers) is the same interpolation as sigma: equal to
 // rounding (ln Sigma down to ~-900, so ~1e-13 relative after exp) on random in-domain points,
 // the domain's corners and a count that is not a whole number of vectors.
-TEST(KernelTable, SigmaManyEqualsSigma) {
-  const KernelTable& table = KernelTable::instance();
+TEST_P(KernelTableTier, SigmaManyEqualsSigma) {
   std::mt19937_64 rng(21);
   std::uniform_real_distribution<double> unit(0, 1);
   std::vector<double> g, c;
@@ -183,8 +206,7 @@ TEST(KernelTable, SigmaManyEqualsSigma) {
 // The lane kernel's own domain test is contains(): queries just outside every edge, NaN and Inf
 // are handed back (exactly those, in order), the others get scale x sigma; sigma_many gives NaN
 // outside.
-TEST(KernelTable, ScaledLookupHandsBackExactlyTheQueriesOutside) {
-  const KernelTable& table = KernelTable::instance();
+TEST_P(KernelTableTier, ScaledLookupHandsBackExactlyTheQueriesOutside) {
   const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
   const double z2 = kKernelZMax * kKernelZMax;
   std::vector<double> g, c;

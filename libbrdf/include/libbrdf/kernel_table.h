@@ -7,13 +7,13 @@
 //
 // depends on no material, wavelength or surface: every ASF model (asf, mbk, mbk-fg, bk,
 // bk-modified) is (K) x (angular factor) x (pi l_c^2/lambda^2) x Sigma(g, c), so one table serves
-// them all. Its 500k nodes are computed once, at build time, by the series' moments
+// them all. Its nodes (two tiers below) are computed once, at build time, by the series' moments
 // (tools/generate_kernel_table.cpp, ~0.4 s of CPU) and assembled into the library
 // (kernel_table_data.S): a process pays nothing to start it. compute_nodes() recomputes them; a test
-// asserts that the embedded table is that result bit for bit.
+// asserts that the embedded tables are that result bit for bit.
 //
-// Grid (also written into kernel-layout LUT files):
-//   x = ln g                 nodes x_i = kKernelXMin + i dx, i = 0 .. kKernelNx - 1
+// Grid (described in kernel-layout LUT files' metadata):
+//   x = ln g                 nodes x_i = ln kKernelGMin + i dx,  i = 0 .. nx - 1
 //   z = sqrt(c / (g + 1))    nodes z_j = j dz,               j = 0 .. kKernelNz - 1
 // z makes both ends smooth: for g >> 1, ln Sigma ~ -ln g - z^2 (a Gaussian in eta_r); for g << 1
 // the dominant term index m changes where c ~ m(m+1) ln(1/g), evenly spaced in sqrt(c). ln Sigma is
@@ -29,29 +29,44 @@ namespace libbrdf {
 inline constexpr double kKernelGMin = 1e-5;    // table domain in g (outside: closed forms or series)
 inline constexpr double kKernelGMax = 1e7;
 inline constexpr double kKernelZMax = 30.0;    // c / (g + 1) <= 900: values down to ~e^-900 of the peak
-// Node spacing, chosen for a certified 1e-6 (the default tolerance) at the fewest nodes: the
+// Two tables of Sigma on that grid, at two certified errors (tolerance tiers): the fine one for the
+// default tolerance, 1e-6, and a coarse one, 6x fewer nodes, for tolerances >= 1e-4 (`brdf eval
+// --timing`, asf minus g, 1e6 queries, same run: 9.1-9.5 ns at 1e-6, 6.1-6.9 ns at 1e-4). The
 // bicubic error goes as h^4. In z it is largest at small g, where the dominant term m -> m + 1
 // switches within ~(m + 1/2) / (2 sqrt(ln 1/g)) in z (0.15 at g = 1e-5); in x at large g and z.
-// Measured max (random points): dz = dx = 1/10: 2.1e-5; 1/20, 1/25: 4.6e-7 (g ~ 1e-5);
-// 1/20, 1/30: 2.7e-7 (now: 555 x 902 nodes, 16 MB).
-inline constexpr int kKernelNodesPerUnitX = 20;  // dx = 1/20 in ln g
-inline constexpr int kKernelNodesPerUnitZ = 30;  // dz = 1/30
-
-// The largest relative error of KernelTable::sigma against the series over its domain, measured
-// by a dense sweep (tests/cpp/test_kernel_table.cpp asserts it with a margin of 2; `brdf bench`
-// reports it). The automatic method choice (asf_auto) uses the table only where the caller's
-// tolerance is >= this: at the default tolerance, 1e-6, it does.
-inline constexpr double kKernelTableCertifiedError = 1e-6;
+// Measured max (the sweep below): dz = dx = 1/10: 2.1e-5 (at g = 1.3e-5, z = 5.05); 1/20, 1/25:
+// 4.6e-7 (g ~ 1e-5); 1/20, 1/30: 2.7e-7. 1/10 x 1/8 would be ~5e-5 (h^4), without the margin of 2.
+struct KernelTableSpec {
+  int nodes_per_unit_x;    // dx = 1 / this, in ln g
+  int nodes_per_unit_z;    // dz = 1 / this
+  // The largest relative error of KernelTable::sigma against the series over the domain, measured
+  // by a dense sweep (tests/cpp/test_kernel_table.cpp asserts it with a margin of 2; `brdf bench`
+  // reports it). The automatic method choice (asf_auto) uses a table only where the caller's
+  // tolerance is >= this.
+  double certified_error;
+  // Whether lookups prefetch each query's cell rows while locating the cells: the fine table's
+  // 16 MB spread a surface's queries over MBs, past L2 (17.0 -> 12.2 ns per query, polished); the
+  // coarse table's band of a surface stays in L2, where the prefetches only cost (polished,
+  // single pass: 6.9 -> 5.4 ns per query without them).
+  bool prefetch_rows;
+};
+inline constexpr KernelTableSpec kKernelTableFine{20, 30, 1e-6, true};    // 555 x 902 nodes, 16 MB
+inline constexpr KernelTableSpec kKernelTableCoarse{10, 10, 1e-4, false};  // 279 x 302 nodes, 2.7 MB
+inline constexpr double kKernelTableCertifiedError = kKernelTableFine.certified_error;
 
 class KernelTable {
  public:
-  // The process-wide table: the one embedded at build time, or (in the generator, which has none)
-  // computed on first use. Thread-safe.
-  static const KernelTable& instance();
-  // Every node of the grid from the series (multi-threaded): 4 doubles per node as nodes().
-  static std::vector<double> compute_nodes();
+  enum class Tier { fine, coarse };
+  // The process-wide tables: the ones embedded at build time, or (in the generator, which has
+  // none) computed on first use. Thread-safe.
+  static const KernelTable& instance(Tier tier = Tier::fine);
+  // The table asf_auto uses at this tolerance: the coarsest whose certified error is <= it;
+  // nullptr below the fine table's.
+  static const KernelTable* for_tolerance(double tolerance);
+  // Every node of a tier's grid from the series (multi-threaded): 4 doubles per node as nodes().
+  static std::vector<double> compute_nodes(Tier tier);
 
-  // True when (g, c) lies inside the table: kKernelGMin <= g <= kKernelGMax, z <= kKernelZMax.
+  // True when (g, c) lies inside the tables' domain: kKernelGMin <= g <= kKernelGMax, z <= kKernelZMax.
   bool contains(double g, double c) const {  // inline: asf_regime asks it for every scalar query
     return g >= kKernelGMin && g <= kKernelGMax && c >= 0.0 && c <= kKernelZMax * kKernelZMax * (g + 1.0);
   }
@@ -66,6 +81,9 @@ class KernelTable {
   std::size_t scaled_sigma_inside(const double* g, const double* c, std::size_t count, double scale, double* out,
                                   std::uint32_t* outside) const;
 
+  Tier tier() const { return tier_; }
+  const KernelTableSpec& spec() const { return spec_; }
+  double certified_error() const { return spec_.certified_error; }
   int nx() const { return nx_; }
   int nz() const { return nz_; }
   double x_min() const { return x_min_; }
@@ -81,7 +99,9 @@ class KernelTable {
   double build_seconds() const { return build_seconds_; }
 
  private:
-  KernelTable();
+  explicit KernelTable(Tier tier);
+  Tier tier_;
+  KernelTableSpec spec_;
   int nx_ = 0, nz_ = 0;
   double x_min_ = 0.0, dx_ = 0.0, dz_ = 0.0;
   const double* nodes_ = nullptr;
