@@ -214,6 +214,10 @@ class Bench {
     add_asf_batch_row(s, series_only, "batch: series in lanes tol 1e-6");
     add_model_row("fast_path", ModelKind::asf, s, gold(s), "kernel table tol 1e-6 (default)");
     add_asf_batch_row(s, gold(s), "batch: kernel table in lanes tol 1e-6 (default)");
+    ModelParameters coarse = gold(s);  // KernelTable::for_tolerance: the coarse tier (kernel_table.h)
+    coarse.tolerance = libbrdf::kKernelTableCoarse.certified_error;
+    add_model_row("fast_path", ModelKind::asf, s, coarse, "kernel table tol 1e-4 (coarse tier)");
+    add_asf_batch_row(s, coarse, "batch: kernel table in lanes tol 1e-4 (coarse tier)");
     ModelParameters asf_landed = reference_parameters(s);
     asf_landed.series.method = libbrdf::SeriesMethod::strided;
     add_model_row("fast_path", ModelKind::asf, s, asf_landed, "series strided scalar (landed method; tol 0)");

@@ -29,6 +29,8 @@ SHORT_VARIANT = {"auto regime tol 1e-6 (default: kernel table)": "auto 1e-6", "a
                  "kernel table tol 1e-6 (default)": "table 1e-6",
                  "batch: series in lanes tol 1e-6": "series lanes 1e-6",
                  "batch: kernel table in lanes tol 1e-6 (default)": "table lanes 1e-6",
+                 "kernel table tol 1e-4 (coarse tier)": "table 1e-4",
+                 "batch: kernel table in lanes tol 1e-4 (coarse tier)": "table lanes 1e-4",
                  "series strided scalar (landed method; tol 0)": "landed",
                  "series SIMD tol 0 (1e-14 truncation)": "series 1e-14",
                  "series strided (tol 0)": "strided", "closed form eq. 14": "", "closed form eq. 15": "",
