@@ -16,13 +16,13 @@ namespace brdf_cli {
 
 struct ModelOptions {
   std::string model;
-  std::optional<double> sigma_s_um, lc_um, n, kappa, sigma_g, rho_s;
-  double rho_d = 0.0;
+  // Options only some models read are optional: given to another model, they are an error.
+  std::optional<double> sigma_s_um, lc_um, n, kappa, sigma_g, rho_s, rho_d;
   std::string wavelengths;             // --wavelength text "A[,B,...]" (parsed by channel_wavelengths)
   std::string material;
-  std::string g_term = "smith";
+  std::optional<std::string> g_term;           // default smith
   std::string k_mode = "plane";
-  std::string sigma_g_mapping = "auto";
+  std::optional<std::string> sigma_g_mapping;  // default auto
   double tolerance = 1e-6;
   std::string asf_method = "auto";
 };

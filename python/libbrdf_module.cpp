@@ -42,10 +42,10 @@ using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecas
 
 // Surface and material keywords shared by Model and bake, as the CLI's ModelOptions.
 struct SurfaceKeywords {
-  std::optional<double> sigma_s, lc, n, k, sigma_g, rho_s;
-  double rho_d = 0.0;
-  std::optional<std::string> material;
-  std::string g_term = "smith", k_mode = "plane", sigma_g_mapping = "auto";
+  std::optional<double> sigma_s, lc, n, k, sigma_g, rho_s, rho_d;  // None: not given (an error where unread)
+  std::optional<std::string> material, g_term;
+  std::string k_mode = "plane";
+  std::optional<std::string> sigma_g_mapping;
   double tolerance = 1e-6;
 
   brdf_cli::ModelOptions options(const std::string& name, const std::vector<double>& wavelengths) const {
@@ -385,25 +385,29 @@ PYBIND11_MODULE(libbrdf, m) {
 A model (a named quantity of `brdf eval --model`) of one surface at one wavelength.
 
 Model(name, *, sigma_s=None, lc=None, wavelength=0.55, n=None, k=None, material=None,
-      sigma_g=None, rho_s=None, rho_d=0.0, g_term="smith", k_mode="plane",
-      sigma_g_mapping="auto", tolerance=1e-6)
+      sigma_g=None, rho_s=None, rho_d=None, g_term=None, k_mode="plane",
+      sigma_g_mapping=None, tolerance=1e-6)
 
 Every keyword means what the `brdf` option of the same name means (--sigma-s, --lc, ...):
 lengths in micrometres, n + i k the complex index (or material="Au", ... at the wavelength).
+None means the option's default (rho_d 0, g_term "smith", sigma_g_mapping "auto"); rho_s, rho_d
+given to a model other than microfacet, or sigma_g, g_term, sigma_g_mapping to one other than
+microfacet and mbk-fg, raise InvalidArgument: the model would not read them.
 Out-of-domain values raise libbrdf.InvalidArgument (a ValueError) naming the parameter.
 )doc")
       .def(py::init([](const std::string& name, std::optional<double> sigma_s, std::optional<double> lc, double wavelength,
                        std::optional<double> n, std::optional<double> k, std::optional<std::string> material,
-                       std::optional<double> sigma_g, std::optional<double> rho_s, double rho_d, std::string g_term,
-                       std::string k_mode, std::string sigma_g_mapping, double tolerance) {
+                       std::optional<double> sigma_g, std::optional<double> rho_s, std::optional<double> rho_d,
+                       std::optional<std::string> g_term, std::string k_mode, std::optional<std::string> sigma_g_mapping,
+                       double tolerance) {
              SurfaceKeywords kw{sigma_s, lc, n, k, sigma_g, rho_s, rho_d, material, g_term, k_mode, sigma_g_mapping, tolerance};
              return make_model(name, wavelength, kw);
            }),
            py::arg("name"), py::kw_only(), py::arg("sigma_s") = py::none(), py::arg("lc") = py::none(),
            py::arg("wavelength") = 0.55, py::arg("n") = py::none(), py::arg("k") = py::none(),
            py::arg("material") = py::none(), py::arg("sigma_g") = py::none(), py::arg("rho_s") = py::none(),
-           py::arg("rho_d") = 0.0, py::arg("g_term") = "smith", py::arg("k_mode") = "plane",
-           py::arg("sigma_g_mapping") = "auto", py::arg("tolerance") = 1e-6)
+           py::arg("rho_d") = py::none(), py::arg("g_term") = py::none(), py::arg("k_mode") = "plane",
+           py::arg("sigma_g_mapping") = py::none(), py::arg("tolerance") = 1e-6)
       .def("__call__", [](const PyModel& self, py::handle theta_i, py::handle theta_s, py::handle phi_s) {
              const auto a = broadcast({{theta_i, "theta_i"}, {theta_s, "theta_s"}, {phi_s, "phi_s"}});
              DoubleArray out(shape_of(a[0]));
@@ -474,8 +478,8 @@ Out-of-domain values raise libbrdf.InvalidArgument (a ValueError) naming the par
            std::optional<double> target_error, std::optional<std::array<double, 3>> light, std::optional<std::array<double, 3>> view,
            int error_samples, double error_floor, std::uint64_t seed, std::optional<double> sigma_s, std::optional<double> lc,
            std::optional<double> n, std::optional<double> k, std::optional<std::string> material, std::optional<double> sigma_g,
-           std::optional<double> rho_s, double rho_d, std::string g_term, std::string k_mode, std::string sigma_g_mapping,
-           double tolerance) {
+           std::optional<double> rho_s, std::optional<double> rho_d, std::optional<std::string> g_term, std::string k_mode,
+           std::optional<std::string> sigma_g_mapping, double tolerance) {
           SurfaceKeywords kw{sigma_s, lc, n, k, sigma_g, rho_s, rho_d, material, g_term, k_mode, sigma_g_mapping, tolerance};
           // One wavelength (a number) or one per channel (a sequence).
           std::vector<double> wavelengths;
@@ -493,8 +497,8 @@ Out-of-domain values raise libbrdf.InvalidArgument (a ValueError) naming the par
         py::arg("light") = py::none(), py::arg("view") = py::none(), py::arg("error_samples") = 20000,
         py::arg("error_floor") = 1e-3, py::arg("seed") = 1, py::arg("sigma_s") = py::none(), py::arg("lc") = py::none(),
         py::arg("n") = py::none(), py::arg("k") = py::none(), py::arg("material") = py::none(), py::arg("sigma_g") = py::none(),
-        py::arg("rho_s") = py::none(), py::arg("rho_d") = 0.0, py::arg("g_term") = "smith", py::arg("k_mode") = "plane",
-        py::arg("sigma_g_mapping") = "auto", py::arg("tolerance") = 1e-6,
+        py::arg("rho_s") = py::none(), py::arg("rho_d") = py::none(), py::arg("g_term") = py::none(), py::arg("k_mode") = "plane",
+        py::arg("sigma_g_mapping") = py::none(), py::arg("tolerance") = 1e-6,
         R"doc(
 Bakes a BRDF into a table, as `brdf bake` (same keywords as Model; wavelength: one per channel,
 default (0.65, 0.55, 0.45)). layout: rusinkiewicz | merl | slice (light=, view= world directions);

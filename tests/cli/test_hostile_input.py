@@ -109,6 +109,20 @@ class NoNaN(Case):
 
 
 class NoSilentGuess(Case):
+    def test_an_option_the_model_does_not_read_is_an_error(self):
+        surface = ["--n", "1.5", "--sigma-s", "0.1", "--lc", "2", "--at", "30,30,180"]
+        for model, option, value in [("mbk", "--rho-d", "0.3"), ("mbk", "--rho-s", "1"), ("bk", "--g-term", "vgroove"),
+                                     ("asf", "--sigma-g", "0.2"), ("bk-modified", "--sigma-g-mapping", "rough")]:
+            self.assert_usage_error(["eval", "--model", model] + surface + [option, value],
+                                    [option[2:], "applies only to --model microfacet", model])
+        self.assert_usage_error(["bake", "--model", "mbk"] + ROUGH + ["--rho-d", "0.5", "-o", "/tmp/never.exr"],
+                                ["rho-d", "microfacet"])
+        self.assertFalse(os.path.exists("/tmp/never.exr"))
+        for model, option, value in [("microfacet", "--rho-d", "0.3"), ("mbk-fg", "--g-term", "vgroove"),
+                                     ("mbk-fg", "--sigma-g", "0.2")]:  # the models that read them
+            rc, out, err, _ = run(["eval", "--model", model] + surface + [option, value])
+            self.assertEqual(rc, 0, f"{model} {option}: {err}")
+
     def test_empty_values_are_errors(self):
         for option in ["--k", "--tolerance", "--sigma-g", "--rho-s", "--rho-d", "--lc"]:
             self.assert_usage_error(["eval", "--model", "mbk", "--n", "1.5", "--sigma-s", "0.1", "--lc", "2",

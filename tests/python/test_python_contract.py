@@ -64,10 +64,33 @@ cli_names = unknown[unknown.find("(one of: ") + 9:unknown.rfind(")")].split(", "
 checks.check(len(names) == 20 and names == cli_names, f"model_names() lists brdf eval's quantities: {names} vs {cli_names}")
 
 compared = 0
+unread = SURFACES["microfacet given"]
+for name in ("mbk", "bk", "fresnel"):  # the same refusal through the module and the CLI
+    try:
+        libbrdf.Model(name, **unread)
+        refused = False
+    except libbrdf.InvalidArgument as e:
+        refused = "applies only to --model microfacet" in str(e)
+    cli = subprocess.run([BRDF, "eval", "--model", name, *cli_options(unread), "--at", "30,30,180"], capture_output=True, text=True)
+    checks.check(refused and cli.returncode == 2 and "applies only to --model microfacet" in cli.stderr,
+                 f"{name}: microfacet-only options refused by Model() and by brdf eval alike")
+# The options only some models read (an error anywhere else, in both front ends): rho_s, rho_d for
+# microfacet; sigma_g, g_term, sigma_g_mapping for microfacet and mbk-fg.
+MICROFACET_ONLY = {"rho_s", "rho_d"}
+FACET_SLOPES = {"sigma_g", "g_term", "sigma_g_mapping"}
+
+
+def read_by(name, params):
+    return {key: value for key, value in params.items()
+            if not (key in MICROFACET_ONLY and name != "microfacet")
+            and not (key in FACET_SLOPES and name not in ("microfacet", "mbk-fg"))}
+
+
 for label, params in SURFACES.items():
     queries = np.column_stack([rng.uniform(0, 89.9, POINTS), rng.uniform(0, 89.9, POINTS), rng.uniform(-360, 360, POINTS)])
     queries[:3] = [[0, 0, 0], [30, 30, 180], [89.5, 0.0, 90]]  # normal, specular, near grazing
     for name in names:
+        params = read_by(name, SURFACES[label])
         model = libbrdf.Model(name, **params)
         ours = model(queries[:, 0], queries[:, 1], queries[:, 2])
         theirs = cli_eval(["--model", name, *cli_options(params)], queries)
