@@ -277,7 +277,10 @@ RenormalizationTable::RenormalizationTable(const Surface& true_surface, KMode mo
   std::vector<double> dense_q(dense_nodes);
   for (int j = 0; j < dense_nodes; ++j) dense_q[j] = q_from_smooth_factors(j / dense_scale_);
   const std::vector<double> dense_slope = hermite_slopes(dense_q);
-  dense_.resize(2 * static_cast<std::size_t>(dense_nodes));
+  dense_nodes_ = dense_nodes;
+  // Zeros after the last node: a lookup's vector load of a cell's row (renormalization_span, up to
+  // 8 doubles from the cell's 4) never reads past the grid.
+  dense_.assign(2 * static_cast<std::size_t>(dense_nodes) + kDensePadding, 0.0);
   for (int j = 0; j < dense_nodes; ++j) dense_[2 * j] = dense_q[j], dense_[2 * j + 1] = dense_slope[j];
   for (int i = 0; i < nodes; ++i) k_[i] = (*this)(angles_[i]);
 }
@@ -311,7 +314,7 @@ double RenormalizationTable::operator()(double theta_i) const {
     return k_[i] + (x - i) * (k_[i + 1] - k_[i]);
   }
   const double x = u * dense_scale_;
-  const int j = std::min(static_cast<int>(x), static_cast<int>(dense_.size() / 2) - 2);
+  const int j = std::min(static_cast<int>(x), dense_nodes_ - 2);
   const double* cell = &dense_[2 * static_cast<std::size_t>(j)];  // (q, q') of nodes j, j + 1
   const double q = std::max(0.0, hermite_cell(cell[0], cell[1], cell[2], cell[3], x - j));
   return (mode_ == KMode::plane ? 1.0 : 0.0) + ci * ci * q;
@@ -322,7 +325,7 @@ void RenormalizationTable::at_geometries(const ScatterGeometry* geos, std::size_
     for (std::size_t j = 0; j < count; ++j) k[j] = (*this)(std::atan2(geos[j].sin_theta_i, geos[j].cos_theta_i));
     return;
   }
-  const detail::KTableView view{dense_.data(), static_cast<int>(dense_.size() / 2), dense_scale_, mode_ == KMode::plane ? 1.0 : 0.0};
+  const detail::KTableView view{dense_.data(), dense_nodes_, dense_scale_, mode_ == KMode::plane ? 1.0 : 0.0};
   detail::renormalization_span(view, geos, count, k);
 }
 
