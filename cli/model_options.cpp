@@ -17,11 +17,14 @@ namespace brdf_cli {
 using libbrdf::InvalidArgument;
 
 void add_model_options(CLI::App& command, ModelOptions& o, bool require_model) {
-  auto* model = command.add_option("--model", o.model, "Model name (see `brdf eval --help`)");
+  std::string names;
+  for (const libbrdf::ModelKind kind : libbrdf::all_models()) names += (names.empty() ? "" : ", ") + std::string(libbrdf::model_name(kind));
+  auto* model = command.add_option("--model", o.model, "Model name: " + names + " (README: what each is)");
   if (require_model) model->required();
   command.add_option("--sigma-s", o.sigma_s_um, "RMS surface height sigma_s [um], >= 0");
   command.add_option("--lc", o.lc_um, "Surface correlation length l_c [um], > 0");
-  command.add_option("--wavelength", o.wavelengths, "Wavelength(s) [um], one per channel: A[,B,...]");
+  command.add_option("--wavelength", o.wavelengths,
+                     "Wavelength [um]; bake and the exporters take one per channel: A[,B,...] (eval and albedo: one)");
   command.add_option("--n", o.n, "Real part n of the complex index n + i k, in [0.001, 1000]");
   command.add_option("--k", o.kappa, "Imaginary part kappa of the complex index, in [0, 1000] (default 0)");
   command.add_option("--material", o.material, "Built-in material (n, k tabulated per wavelength): Au, Ag, Al, Cu, Cr, Ni, Ti, Si, BK7");
