@@ -99,14 +99,14 @@ void register_eval(CLI::App& app, ActionTable& actions) {
       tbb::parallel_for(0, 1, [](int) {});
       setup_seconds += process_cpu_seconds() - setup_start;
     }
-    // The batch API (libbrdf/batch.h): the same values as every other front end, in parallel.
-    std::vector<libbrdf::ScatterAngles> angles(queries.size());
+    // The batch API in degrees (libbrdf/batch.h): the same values as the Python module, in parallel.
+    std::vector<double> theta_i(queries.size()), theta_s(queries.size()), phi_s(queries.size());
     for (std::size_t k = 0; k < queries.size(); ++k)
-      angles[k] = libbrdf::scatter_angles_from_degrees(queries[k].theta_i_deg, queries[k].theta_s_deg, queries[k].phi_s_deg);
+      theta_i[k] = queries[k].theta_i_deg, theta_s[k] = queries[k].theta_s_deg, phi_s[k] = queries[k].phi_s_deg;
     std::vector<double> values(queries.size());
     const double evaluation_start = process_cpu_seconds();
     try {
-      libbrdf::evaluate_batch(model, angles.data(), angles.size(), values.data());
+      libbrdf::evaluate_degrees_batch(model, theta_i.data(), theta_s.data(), phi_s.data(), queries.size(), values.data());
     } catch (const libbrdf::InvalidQuery& e) {
       throw libbrdf::InvalidArgument(e.parameter(), queries[e.index()].origin() + ": " + e.reason());
     }

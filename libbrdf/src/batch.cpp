@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -86,10 +87,23 @@ void evaluate_degrees_batch(const Model& model, const double* theta_i_deg, const
   }
   for_each_chunk(count, [&](std::size_t begin, std::size_t end) {
     ScatterAngles angles[kBlock];
+    ScatterGeometry geos[kBlock];
+    std::uint32_t grazing[kBlock];
     for (std::size_t block = begin; block < end; block += kBlock) {
       const std::size_t n = std::min(kBlock, end - block);
-      for (std::size_t k = 0; k < n; ++k) angles[k] = angles_at(block + k);
-      evaluate_validated(model, angles, n, values + block);
+      std::size_t grazing_count = 0;
+      for (std::size_t k = 0; k < n; ++k) {
+        angles[k] = angles_at(block + k);
+        if (theta_i_deg[block + k] > kGrazingDegrees || theta_s_deg[block + k] > kGrazingDegrees)
+          grazing[grazing_count++] = static_cast<std::uint32_t>(k);
+      }
+      make_scatter_geometries(angles, n, geos);
+      // Polar angles near 90 deg: cos theta from the degrees (geometry.h), which radians cannot carry.
+      for (std::size_t j = 0; j < grazing_count; ++j) {
+        const std::size_t k = block + grazing[j];
+        geos[grazing[j]] = make_scatter_geometry_degrees(theta_i_deg[k], theta_s_deg[k], phi_s_deg[k]);
+      }
+      model.evaluate_many(geos, n, values + block);
     }
   });
 }

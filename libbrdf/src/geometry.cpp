@@ -19,6 +19,30 @@ ScatterGeometry make_scatter_geometry(const ScatterAngles& angles) {
   return scatter_geometry_from_trig(trig[0], trig[1], trig[2], trig[3], trig[4], trig[5]);
 }
 
+namespace {
+// sin and cos of a polar angle in [0, 90] degrees with the argument reduced in degrees: above
+// 45 deg from the complement, so that a cosine near 0 is as precise as a sine near 0.
+void polar_sin_cos_degrees(double degrees, double* sine, double* cosine) {
+  if (degrees <= 45.0) {
+    const double r = degrees_to_radians(degrees);
+    *sine = std::sin(r), *cosine = std::cos(r);
+  } else {
+    const double r = degrees_to_radians(90.0 - degrees);  // exact subtraction (Sterbenz)
+    *sine = std::cos(r), *cosine = std::sin(r);
+  }
+}
+}  // namespace
+
+ScatterGeometry make_scatter_geometry_degrees(double theta_i_deg, double theta_s_deg, double phi_s_deg) {
+  // Validation and the azimuth's sine and cosine as the radian path (its rounding is harmless: it
+  // moves eta_r^2 by ~1e-32 at the exact specular direction).
+  const ScatterGeometry radian = make_scatter_geometry(scatter_angles_from_degrees(theta_i_deg, theta_s_deg, phi_s_deg));
+  double sin_i, cos_i, sin_s, cos_s;
+  polar_sin_cos_degrees(theta_i_deg, &sin_i, &cos_i);
+  polar_sin_cos_degrees(theta_s_deg, &sin_s, &cos_s);
+  return scatter_geometry_from_trig(cos_i, sin_i, cos_s, sin_s, radian.cos_phi_s, radian.sin_phi_s);
+}
+
 ScatterGeometry scatter_geometry_from_trig(double cos_theta_i, double sin_theta_i, double cos_theta_s,
                                            double sin_theta_s, double cos_phi_s, double sin_phi_s) {
   const double trig[6] = {cos_theta_i, sin_theta_i, cos_theta_s, sin_theta_s, cos_phi_s, sin_phi_s};

@@ -8,9 +8,11 @@
 #include <random>
 #include <vector>
 
+#include "libbrdf/batch.h"
 #include "libbrdf/beckmann_kirchhoff.h"
 #include "libbrdf/error.h"
 #include "libbrdf/geometry.h"
+#include "libbrdf/models.h"
 #include "test_support.h"
 
 namespace {
@@ -166,6 +168,40 @@ namespace {
 // and both agree with the C library's sines and cosines to rounding: every field, over random
 // angles, grazing ones and azimuths beyond Highway's range (|phi| > 39000 rad: the C library's).
 // Bounds: the measured maxima (a few 1e-16) with margin.
+// Polar angles up to 1e-13 deg from the horizon: the degree path's cosines keep their relative
+// precision, against long double sines of the complement (the radian path's cos theta is off by
+// ~1e-16 rad / cos theta: 1.1e-3 at 89.99999999999 deg), and the derived fields follow.
+TEST(Geometry, DegreePathKeepsGrazingCosinesPrecise) {
+  const long double pi = 3.141592653589793238462643383279502884L;
+  for (double t : {0.0, 30.0, 45.0, 60.0, 89.9, 89.9999999, 89.999999999, 89.99999999999, 89.9999999999999}) {
+    const ScatterGeometry geo = make_scatter_geometry_degrees(t, t, 180.0);  // the specular direction
+    const long double cos_exact = std::sin((90.0L - t) * pi / 180.0L), sin_exact = std::cos((90.0L - t) * pi / 180.0L);
+    EXPECT_LE(relative_difference(geo.cos_theta_i, static_cast<double>(cos_exact)), 3e-16) << t;
+    EXPECT_LE(relative_difference(geo.cos_theta_s, static_cast<double>(cos_exact)), 3e-16) << t;
+    EXPECT_NEAR(geo.sin_theta_i, static_cast<double>(sin_exact), 3e-16 * static_cast<double>(sin_exact) + 1e-19) << t;
+    EXPECT_NEAR(geo.cos_theta_h, 1.0, 1e-15) << t;  // specular: the half vector is the normal
+    EXPECT_LE(geo.eta_r2, 1e-30) << t;
+  }
+  // A degree batch uses it above kGrazingDegrees (there the radian geometry's value is 1e-3 off),
+  // and the radian geometry below; batch and per-query values agree to rounding (batch.h).
+  ModelParameters p;
+  p.sigma_s_um = 0.4, p.lc_um = 4.6, p.wavelength_um = 0.86, p.index = ComplexIndex{1.5, 0.0};
+  const Model asf(ModelKind::asf, p);
+  const std::vector<double> ti = {89.99999999999, 30.0, 89.9, 89.95}, ts = {89.99999999999, 40.0, 10.0, 20.0},
+                            ps = {0.0, 200.0, 180.0, 90.0};
+  std::vector<double> batch(ti.size());
+  evaluate_degrees_batch(asf, ti.data(), ts.data(), ps.data(), ti.size(), batch.data());
+  for (std::size_t k = 0; k < ti.size(); ++k) {
+    const bool grazing = ti[k] > kGrazingDegrees || ts[k] > kGrazingDegrees;
+    const double from_degrees = asf.evaluate(make_scatter_geometry_degrees(ti[k], ts[k], ps[k]));
+    const double from_radians = asf.evaluate(scatter_angles_from_degrees(ti[k], ts[k], ps[k]));
+    EXPECT_LE(relative_difference(batch[k], grazing ? from_degrees : from_radians), 1e-12) << k;
+    if (k == 0) {
+      EXPECT_GT(relative_difference(from_degrees, from_radians), 1e-4);  // why the degree path
+    }
+  }
+}
+
 TEST(Geometry, SpanGeometriesMatchScalarToRounding) {
   std::vector<ScatterAngles> angles;
   std::mt19937_64 rng(5);

@@ -37,10 +37,13 @@ inline constexpr std::size_t kBatchParallelThreshold = 4096;
 // to `values` then.
 void evaluate_batch(const Model& model, const ScatterAngles* angles, std::size_t count, double* values);
 
-// Same, with the angles in degrees as three arrays (what the Python module receives): query k is
-// (theta_i_deg[k], theta_s_deg[k], phi_s_deg[k]), converted as scatter_angles_from_degrees does, so
-// the values are bit-identical to evaluate_batch on the converted angles; each chunk converts its
-// own queries (no converted copy of the batch). Same validation, InvalidQuery in radians' terms.
+// Same, with the angles in degrees as three arrays (what `brdf eval` and the Python module
+// receive): query k is (theta_i_deg[k], theta_s_deg[k], phi_s_deg[k]), converted as
+// scatter_angles_from_degrees does, so the values are bit-identical to evaluate_batch on the
+// converted angles -- except for polar angles above kGrazingDegrees, whose cosines come from the
+// degrees (make_scatter_geometry_degrees: relative precision kept up to 90 deg, where radians lose
+// it). Each chunk converts its own queries (no converted copy of the batch). Same validation,
+// InvalidQuery in radians' terms.
 void evaluate_degrees_batch(const Model& model, const double* theta_i_deg, const double* theta_s_deg, const double* phi_s_deg,
                             std::size_t count, double* values);
 

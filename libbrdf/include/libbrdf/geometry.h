@@ -52,6 +52,15 @@ struct ScatterGeometry {
 // Throws InvalidArgument naming theta_i, theta_s or phi_s.
 ScatterGeometry make_scatter_geometry(const ScatterAngles& angles);
 
+// The same from angles in degrees (the CLI and Python convention), with the polar angles' sines and
+// cosines from their arguments reduced in degrees (above 45 deg, from the complement 90 - theta,
+// exact in floating point): cos theta near 90 deg keeps its relative precision, which a radian
+// theta cannot carry (its rounding, ~1e-16 rad, is 1.1e-3 of cos(89.99999999999 deg) = 1.7e-13).
+// Same validation. The degree batches (batch.h) use it for polar angles above kGrazingDegrees.
+ScatterGeometry make_scatter_geometry_degrees(double theta_i_deg, double theta_s_deg, double phi_s_deg);
+// Below this polar angle the radian path's cos theta is within ~1e-16 / cos(89.9 deg) = 6e-14.
+inline constexpr double kGrazingDegrees = 89.9;
+
 // The derived quantities (eqs 5, 6, 10) from the sines and cosines of theta_i, theta_s, phi_s:
 // what make_scatter_geometry does after its trigonometry (no validation).
 ScatterGeometry scatter_geometry_from_trig(double cos_theta_i, double sin_theta_i, double cos_theta_s,
