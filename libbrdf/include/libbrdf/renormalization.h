@@ -32,10 +32,10 @@ struct RenormalizationParts {
 };
 
 // Quadrature resolution of the direct computation. Against 4x finer rules the defaults differ by
-// <= 2e-7 (sigma_s/lambda = 0.5, l_c/lambda = 3, ti = 40 deg), <= 7.3e-9 for wide lobes
-// (l_c/lambda 0.3-1.25, sigma_s/lambda 0.3-1, 0-89.9 deg), 4.6e-6 (l_c/lambda = 1e3 at 89.9 deg)
-// and, at grazing on very rough surfaces (sigma_s/lambda = 6), 6e-6 at 89 deg and up to 8.7e-5
-// (tis) at 89.9 deg, the azimuth rule's; against an independent adaptive quadrature in
+// <= 1e-8 for polished to rough surfaces (sigma_s/lambda 0.01-1, l_c/lambda 4-1000, 0-89.9 deg,
+// both modes), <= 2.7e-7 for wide lobes (l_c/lambda 0.3-1.25, sigma_s/lambda 0.3-1), and, on a very
+// rough surface (sigma_s/lambda = 6, l_c/lambda = 2) at grazing, 1.1e-6 (89.5 deg) and 5.7e-6 (tis,
+// 89.9 deg; the radial rule's); against an independent adaptive quadrature in
 // (theta_s, phi_s) (tests/cpp) D agrees to <= 1.7e-7 for polished, intermediate and rough surfaces
 // at ti = 0, 40, 75 deg, and to <= 1.1e-8 for three wide lobes.
 struct RenormalizationQuadrature {
