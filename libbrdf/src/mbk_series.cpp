@@ -295,10 +295,11 @@ double asf_auto(const AsfArguments& args, double tolerance, AsfRegime* regime, c
 
 AsfRegime asf_regime(const AsfArguments& args, double tolerance, bool allow_table) {
   // The fastest form whose error bound meets the tolerance: a kernel table (the coarsest whose
-  // certified error does, kernel_table.h; in lanes it is faster than the scalar closed forms; both
-  // tiers have one domain), the closed forms (their
-  // leading-order error estimates), else the series.
-  if (detail::kernel_table_allowed(tolerance, allow_table) && KernelTable::instance().contains(args.g, args.c))
+  // certified error does, KernelTable::for_tolerance; in lanes it is faster than the scalar closed
+  // forms; both tiers have one domain), the closed forms (their leading-order error estimates),
+  // else the series.
+  const KernelTable* table = allow_table ? KernelTable::for_tolerance(tolerance) : nullptr;  // as asf_auto_batch
+  if (table && table->contains(args.g, args.c))
     return AsfRegime::table;
   if (tolerance > 0.0 && args.g > 0.0 && args.g < 0.5 && polished_error_estimate(args.g, args.c) < tolerance)
     return AsfRegime::polished;

@@ -3,7 +3,6 @@
 // window of terms is, its stride, the truncation tolerance) is made by mbk_series.cpp.
 #include <cstddef>
 
-#include "libbrdf/kernel_table.h"
 
 namespace libbrdf::detail {
 
@@ -29,14 +28,6 @@ StrideRule stride_rule(double relative_tolerance);
 // tolerance 0: the options' own.
 inline double auto_series_truncation(double tolerance, double options_tolerance) {
   return tolerance > 0.0 && 0.1 * tolerance > options_tolerance ? 0.1 * tolerance : options_tolerance;
-}
-
-// asf_auto's first choice, also asf_auto_batch's: a kernel table, where the options allow it
-// (SeriesOptions::allow_kernel_table) and the fine tier's certified error meets the tolerance (then
-// KernelTable::for_tolerance gives the coarsest that does) -- for queries inside the tables' domain
-// (KernelTable::contains).
-inline bool kernel_table_allowed(double tolerance, bool allow_kernel_table) {
-  return allow_kernel_table && tolerance >= kKernelTableCertifiedError;
 }
 
 struct SeriesBlockStats {
