@@ -27,6 +27,13 @@ double distance_to_unit_circle(double s, double psi) {
   return std::max(0.0, -s * cos_psi + std::sqrt(std::max(0.0, 1.0 - s * s * sin_psi * sin_psi)));
 }
 
+// Panels [a, b) covering [0, length], the first `first` wide (clamped to length), each next
+// `ratio` times as far out: geometric grading away from a feature at 0.
+template <class Panel>
+void graded_panels(double length, double first, double ratio, const Panel& panel) {
+  for (double a = 0.0, b = std::min(first, length); a < length; a = b, b = std::min(length, ratio * b)) panel(a, b);
+}
+
 // Integral of f(psi) over the half disk's azimuths [0, pi] (the integrands are symmetric in alpha)
 // with the quadrature's azimuth nodes. The distance to the unit circle,
 // -s cos psi + sqrt(cos^2 ti + s^2 cos^2 psi), has a rounded kink of width ~cos ti at psi = pi/2, a
@@ -46,10 +53,10 @@ double integrate_half_disk_azimuth(const RenormalizationQuadrature& quad, double
   }
   const detail::GaussLegendreRule& rule = detail::gauss_legendre(std::max(4, quad.azimuth_nodes / 6));
   double sum = 0.0;
-  for (double near = 0.0, far = cos_theta_i; near < mid; near = far, far = std::min(mid, 4.0 * far)) {
+  graded_panels(mid, cos_theta_i, 4.0, [&](double near, double far) {
     sum += detail::integrate_gauss_legendre(rule, mid - far, mid - near, f);  // panels below pi/2
     sum += detail::integrate_gauss_legendre(rule, mid + near, mid + far, f);  // and above
-  }
+  });
   return sum;
 }
 
@@ -106,20 +113,14 @@ double disk_integral(const Surface& surface, double theta_i, const Renormalizati
     // rough surfaces). With rho = rho_max - u^2 the integrand is smooth in u, and cos ts ~ u there.
     // Near grazing incidence a rough surface's ASF turns from ~g to ~1/g where g(ti, ts) =
     // (k (cos ti + cos ts))^2 ~ 1, k = 2 pi sigma_s/lambda: a layer of width ~1/k in cos ts along
-    // the circle. The u panels grow geometrically from a quarter of it (one panel for smooth
-    // surfaces, ~log2(k) more for rough ones). Against a rule 8x finer in azimuth and radius, at
-    // sigma_s/lambda = 6, l_c/lambda = 2 (plane / tis): 85 deg 3e-10 / 3e-10 (was 1.0e-6 / 1.1e-6
-    // with one u panel), 89 deg 5e-6 / 7e-6, 89.9 deg 2e-6 / 8.7e-5; what is left at grazing is
-    // the azimuth rule's (4x its nodes: <= 1.2e-6 / 5.7e-6).
+    // the circle. The u panels grow geometrically from a quarter of it (at least two; one more
+    // per octave of k for rough surfaces). At sigma_s/lambda = 6, l_c/lambda = 2, 85 deg, K moved
+    // from 1.0e-6 (one u panel) to 3e-10 of a rule 8x finer; with the azimuth grading below, what
+    // is left at 89.9 deg (5.7e-6, tis) is this radial rule's.
     const double u_max = std::sqrt(rho_max - a);
     auto add_u = [&](double u, double weight) { add(rho_max - u * u, 2.0 * u * weight); };
-    double ua = 0.0, ub = std::min(0.5 * u_max, 0.25 / (2.0 * kPi * sigma_over_lambda));
-    while (ub < u_max) {
-      add_panel(ua, ub, add_u);
-      ua = ub;
-      ub = std::min(2.0 * ub, u_max);
-    }
-    add_panel(ua, u_max, add_u);
+    graded_panels(u_max, std::min(0.5 * u_max, 0.25 / (2.0 * kPi * sigma_over_lambda)), 2.0,
+                  [&](double ua, double ub) { add_panel(ua, ub, add_u); });
     std::vector<double> g(points.size()), c(points.size()), value(points.size());
     for (std::size_t k = 0; k < points.size(); ++k) g[k] = points[k].g, c[k] = points[k].c;
     asf_auto_batch(g.data(), c.data(), points.size(), prefactor, kAsfTolerance, series, value.data());
@@ -127,9 +128,7 @@ double disk_integral(const Surface& surface, double theta_i, const Renormalizati
     for (std::size_t k = 0; k < points.size(); ++k) total += points[k].weight * value[k];
     return total;
   };
-  // Symmetric in alpha: twice the half disk. The azimuth range is split at pi/2, where the
-  // boundary distance has a kink at grazing incidence.
-  return 2.0 * integrate_half_disk_azimuth(quad, ci, radial_integral);
+  return 2.0 * integrate_half_disk_azimuth(quad, ci, radial_integral);  // symmetric in alpha: twice the half disk
 }
 
 // Integral outside the unit disk of the ASF with the constant g1, done per series term m in
