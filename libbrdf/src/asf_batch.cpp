@@ -278,30 +278,34 @@ std::size_t SeriesQueryLanes(const double* g, const double* c, std::size_t count
 // 9.0 -> 8.7, intermediate unchanged.
 constexpr std::size_t kTableChunk = 64;
 
-std::size_t KernelTableLanes(const double* nodes, int nx, int nz, double x_min, double dx, double dz, bool prefetch_rows,
-                             const double* g, const double* c, std::size_t count, double scale, double* sigma,
-                             std::uint32_t* outside) {
+std::size_t KernelTableLanes(const KernelTableView& table, const double* g, const double* c, std::size_t count, double scale,
+                             double* sigma, std::uint32_t* outside) {
+  const double* const nodes = table.nodes;
   const hn::ScalableTag<double> d;
   const hn::RebindToSigned<decltype(d)> di;
   using V = hn::Vec<decltype(d)>;
   constexpr std::size_t n = hn::MaxLanes(d);
   static_assert(kTableChunk % n == 0, "whole vectors per chunk");
   const V one = hn::Set(d, 1.0), two = hn::Set(d, 2.0), three = hn::Set(d, 3.0);
-  const V vdx = hn::Set(d, dx), vdz = hn::Set(d, dz);
-  const V inv_dx = hn::Set(d, 1.0 / dx), inv_dz = hn::Set(d, 1.0 / dz), vscale = hn::Set(d, scale);
-  const V g_min = hn::Set(d, kKernelGMin), g_max = hn::Set(d, kKernelGMax), z_max2 = hn::Set(d, kKernelZMax * kKernelZMax);
+  const V vdx = hn::Set(d, table.dx), vdz = hn::Set(d, table.dz), vdw = hn::Set(d, table.dw);
+  const V inv_dx = hn::Set(d, 1.0 / table.dx), inv_dz = hn::Set(d, 1.0 / table.dz), vscale = hn::Set(d, scale);
+  const V g_min = hn::Set(d, kKernelGMin), g_max = hn::Set(d, kKernelGMax);
+  const V z_near = hn::Set(d, kKernelZNear), z_far = hn::Set(d, kKernelZFar);
   std::size_t outside_count = 0;
-  const std::ptrdiff_t row_stride = 4 * static_cast<std::ptrdiff_t>(nz);  // node (i + 1, j) - node (i, j)
+  const std::ptrdiff_t row_stride = 4 * static_cast<std::ptrdiff_t>(table.nz + table.nw);  // node (i + 1, j) - node (i, j)
   alignas(64) double gb[kMaxLanes], cb[kMaxLanes], out[kMaxLanes];
   // Two chunks in flight: the cells of chunk k + 1 are located (and their rows prefetched) before
   // chunk k is interpolated, so that the prefetches lead the loads by a whole chunk.
   struct Cells {
-    alignas(64) double s[kTableChunk], t[kTableChunk];
+    // Cell offsets (s, t) and the cell's size in its z coordinate (dz near, dw far; 0 beyond
+    // kKernelZFar, where the value is 0).
+    alignas(64) double s[kTableChunk], t[kTableChunk], dv[kTableChunk];
     alignas(64) hn::TFromD<decltype(di)> node[kTableChunk];  // index of node (i, j) of each query's cell
   } cells[2];
   auto locate = [&](std::size_t k0, Cells& at) {
     double* const s_chunk = at.s;
     double* const t_chunk = at.t;
+    double* const dv_chunk = at.dv;
     auto* const node_chunk = at.node;
     const std::size_t chunk = std::min(kTableChunk, count - k0);
     for (std::size_t k = 0; k < chunk; k += n) {
@@ -315,20 +319,33 @@ std::size_t KernelTableLanes(const double* nodes, int nx, int nz, double x_min, 
       }
       // KernelTable::contains lane by lane (NaN fails every comparison); a lane outside looks up a
       // point inside (g = 1, c = 0), so that no load leaves the table, and is handed back.
-      const auto inside = hn::And(hn::And(hn::Ge(vg, g_min), hn::Le(vg, g_max)),
-                                  hn::And(hn::Ge(vc, hn::Zero(d)), hn::Le(vc, hn::Mul(z_max2, hn::Add(vg, one)))));
+      const auto inside = hn::And(hn::And(hn::Ge(vg, g_min), hn::Le(vg, g_max)), hn::Ge(vc, hn::Zero(d)));
       if (!hn::AllTrue(d, inside)) {
         hn::Store(hn::IfThenElseZero(inside, one), d, out);
         for (std::size_t j = 0; j < m; ++j)
           if (out[j] == 0.0) outside[outside_count++] = static_cast<std::uint32_t>(k0 + k + j);
         vg = hn::IfThenElse(inside, vg, one), vc = hn::IfThenElseZero(inside, vc);
       }
-      const V ux = hn::Mul(hn::Sub(hn::Log(d, vg), hn::Set(d, x_min)), inv_dx);
-      const V uz = hn::Mul(hn::Sqrt(hn::Div(vc, hn::Add(vg, one))), inv_dz);
-      const V fi = hn::Min(hn::Floor(ux), hn::Set(d, nx - 2.0)), fj = hn::Min(hn::Floor(uz), hn::Set(d, nz - 2.0));
-      hn::Store(hn::Sub(ux, fi), d, s_chunk + k), hn::Store(hn::Sub(uz, fj), d, t_chunk + k);
-      hn::Store(hn::ConvertTo(di, hn::Mul(hn::Set(d, 4.0), hn::MulAdd(fi, hn::Set(d, nz), fj))), di, node_chunk + k);
-      if (prefetch_rows) {
+      const V ux = hn::Mul(hn::Sub(hn::Log(d, vg), hn::Set(d, table.x_min)), inv_dx);
+      const V z = hn::Sqrt(hn::Div(vc, hn::Add(vg, one)));
+      // The cell's column in the row (as KernelTable::sigma): near, z / dz below kKernelZNear; far,
+      // nz + ln(z / kKernelZNear) / dw (its log only where a lane needs it); beyond kKernelZFar, a
+      // near cell whose value is then replaced by 0.
+      V uv = hn::Mul(z, inv_dz), fj = hn::Min(hn::Floor(uv), hn::Set(d, table.nz - 2.0)), dv = vdz;
+      const auto far = hn::Gt(z, z_near);
+      if (!hn::AllFalse(d, far)) {
+        const auto beyond = hn::Not(hn::Le(z, z_far));  // +Inf too
+        const V uw = hn::MulAdd(hn::Log(d, hn::Mul(hn::Min(z, z_far), hn::Set(d, 1.0 / kKernelZNear))),
+                                hn::Set(d, 1.0 / table.dw), hn::Set(d, double(table.nz)));
+        const auto far_cell = hn::AndNot(beyond, far);
+        uv = hn::IfThenElse(far_cell, uw, hn::IfThenZeroElse(beyond, uv));
+        fj = hn::IfThenElse(far_cell, hn::Min(hn::Floor(uw), hn::Set(d, table.nz + table.nw - 2.0)), hn::IfThenZeroElse(beyond, fj));
+        dv = hn::IfThenElse(far_cell, vdw, hn::IfThenZeroElse(beyond, vdz));
+      }
+      const V fi = hn::Min(hn::Floor(ux), hn::Set(d, table.nx - 2.0));
+      hn::Store(hn::Sub(ux, fi), d, s_chunk + k), hn::Store(hn::Sub(uv, fj), d, t_chunk + k), hn::Store(dv, d, dv_chunk + k);
+      hn::Store(hn::ConvertTo(di, hn::Mul(hn::Set(d, 4.0), hn::MulAdd(fi, hn::Set(d, table.nz + table.nw), fj))), di, node_chunk + k);
+      if (table.prefetch_rows) {
         for (std::size_t q = 0; q < n; ++q)
           for (std::ptrdiff_t a = 0; a < 2; ++a) {
             const double* row = nodes + node_chunk[k + q] + a * row_stride;
@@ -341,19 +358,20 @@ std::size_t KernelTableLanes(const double* nodes, int nx, int nz, double x_min, 
   auto interpolate = [&](std::size_t k0, const Cells& at) {
     const double* const s_chunk = at.s;
     const double* const t_chunk = at.t;
+    const double* const dv_chunk = at.dv;
     const auto* const node_chunk = at.node;
     const std::size_t chunk = std::min(kTableChunk, count - k0);
     for (std::size_t k = 0; k < chunk; k += n) {
       const std::size_t m = std::min(n, chunk - k);
-      const V s = hn::Load(d, s_chunk + k), t = hn::Load(d, t_chunk + k);
+      const V s = hn::Load(d, s_chunk + k), t = hn::Load(d, t_chunk + k), dv = hn::Load(d, dv_chunk + k);
       // Cubic Hermite basis: values h0, h1; derivatives (times the cell size) d0, d1.
       const V s2 = hn::Mul(s, s), t2 = hn::Mul(t, t);
       const V hx1 = hn::Mul(s2, hn::NegMulAdd(two, s, three)), hx0 = hn::Sub(one, hx1);
       const V gx0 = hn::Mul(hn::Mul(s, hn::Mul(hn::Sub(s, one), hn::Sub(s, one))), vdx);
       const V gx1 = hn::Mul(hn::Mul(s2, hn::Sub(s, one)), vdx);
       const V hz1 = hn::Mul(t2, hn::NegMulAdd(two, t, three)), hz0 = hn::Sub(one, hz1);
-      const V gz0 = hn::Mul(hn::Mul(t, hn::Mul(hn::Sub(t, one), hn::Sub(t, one))), vdz);
-      const V gz1 = hn::Mul(hn::Mul(t2, hn::Sub(t, one)), vdz);
+      const V gz0 = hn::Mul(hn::Mul(t, hn::Mul(hn::Sub(t, one), hn::Sub(t, one))), dv);
+      const V gz1 = hn::Mul(hn::Mul(t2, hn::Sub(t, one)), dv);
       const V hx[2] = {hx0, hx1}, gx[2] = {gx0, gx1}, hz[2] = {hz0, hz1}, gz[2] = {gz0, gz1};
       V f = hn::Zero(d);
       for (int a = 0; a < 2; ++a) {
@@ -371,7 +389,7 @@ std::size_t KernelTableLanes(const double* nodes, int nx, int nz, double x_min, 
           f = hn::MulAdd(gx[a], hn::MulAdd(hz[b], node[1], hn::Mul(gz[b], node[3])), f);
         }
       }
-      const V value = hn::Mul(hn::Exp(d, f), vscale);
+      const V value = hn::IfThenZeroElse(hn::Eq(dv, hn::Zero(d)), hn::Mul(hn::Exp(d, f), vscale));
       if (m == n) {
         hn::StoreU(value, d, sigma + k0 + k);
       } else {
@@ -403,10 +421,9 @@ std::size_t series_query_lanes(const double* g, const double* c, std::size_t cou
   return HWY_DYNAMIC_DISPATCH(SeriesQueryLanes)(g, c, count, relative_tolerance, sigma, rejected);
 }
 
-std::size_t kernel_table_lanes(const double* nodes, int nx, int nz, double x_min, double dx, double dz, bool prefetch_rows,
-                               const double* g, const double* c, std::size_t count, double scale, double* out,
-                               std::uint32_t* outside) {
-  return HWY_DYNAMIC_DISPATCH(KernelTableLanes)(nodes, nx, nz, x_min, dx, dz, prefetch_rows, g, c, count, scale, out, outside);
+std::size_t kernel_table_lanes(const KernelTableView& table, const double* g, const double* c, std::size_t count, double scale,
+                               double* out, std::uint32_t* outside) {
+  return HWY_DYNAMIC_DISPATCH(KernelTableLanes)(table, g, c, count, scale, out, outside);
 }
 }  // namespace detail
 

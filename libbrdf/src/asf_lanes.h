@@ -24,13 +24,20 @@ inline constexpr double kLaneMaxStride = 16.0;
 std::size_t series_query_lanes(const double* g, const double* c, std::size_t count, double relative_tolerance,
                                double* sigma, std::uint32_t* rejected);
 
-// The kernel table's bicubic Hermite lookup (kernel_table.h) in lanes: out[k] = scale exp(F(ln g, z))
-// for every query inside the table (KernelTable::contains, the same test lane by lane). Returns the
-// number of queries outside, their indices in outside[] (out[k] is unspecified there: the caller
-// evaluates them otherwise). nodes: 4 doubles per node (F, F_x, F_z, F_xz), node (i, j) at 4 (i nz + j).
-// prefetch_rows: KernelTableSpec's.
-std::size_t kernel_table_lanes(const double* nodes, int nx, int nz, double x_min, double dx, double dz, bool prefetch_rows,
-                               const double* g, const double* c, std::size_t count, double scale, double* out,
-                               std::uint32_t* outside);
+// A kernel table's grid and nodes (kernel_table.h): 4 doubles per node (F, F_x, F_v, F_xv), node j
+// of row i at 4 (i (nz + nw) + j); j < nz near (v = z, spacing dz), j >= nz far (v = w, spacing dw).
+struct KernelTableView {
+  const double* nodes;
+  int nx, nz, nw;
+  double x_min, dx, dz, dw;
+  bool prefetch_rows;  // KernelTableSpec's
+};
+
+// The kernel table's bicubic Hermite lookup (KernelTable::sigma) in lanes: out[k] = scale exp(F(ln g, v))
+// for every query inside the table (KernelTable::contains, the same test lane by lane; 0 beyond
+// kKernelZFar). Returns the number of queries outside, their indices in outside[] (out[k] is
+// unspecified there: the caller evaluates them otherwise).
+std::size_t kernel_table_lanes(const KernelTableView& table, const double* g, const double* c, std::size_t count, double scale,
+                               double* out, std::uint32_t* outside);
 
 }  // namespace libbrdf::detail

@@ -26,6 +26,7 @@ namespace {
 //   F_x  = (b - g z^2 c) / a
 //   F_z  = -2 (g + 1) z c / a
 //   F_xz = 2 z [ -g c / a + (g + 1) ( (-d + g z^2 e) / a + c (b - g z^2 c) / a^2 ) ]
+// (a far node's w = ln(z / kKernelZNear) has dz/dw = z: F_w = z F_z, F_xw = z F_xz).
 void node_values(double x, double z, double* out) {
   const double g = std::exp(x), c = (g + 1.0) * z * z;
   const detail::SeriesMoments m = detail::series_moments(g, c);
@@ -50,20 +51,31 @@ KernelGrid kernel_grid(const KernelTableSpec& spec) {
   grid.x_min = std::log(kKernelGMin);
   grid.dx = 1.0 / spec.nodes_per_unit_x;
   grid.dz = 1.0 / spec.nodes_per_unit_z;
+  grid.dw = 1.0 / spec.nodes_per_unit_w;
   // One cell beyond each end so that every in-domain query has a full cell.
   grid.nx = static_cast<int>(std::ceil((std::log(kKernelGMax) - grid.x_min) / grid.dx)) + 2;
-  grid.nz = static_cast<int>(std::ceil(kKernelZMax / grid.dz)) + 2;
+  grid.nz = static_cast<int>(std::ceil(kKernelZNear / grid.dz)) + 2;
+  grid.nw = static_cast<int>(std::ceil(std::log(kKernelZFar / kKernelZNear) / grid.dw)) + 2;
   return grid;
 }
 }  // namespace detail
 
 std::vector<double> KernelTable::compute_nodes(Tier tier) {
   const detail::KernelGrid grid = detail::kernel_grid(spec_of(tier));
-  std::vector<double> nodes(static_cast<std::size_t>(grid.nx) * grid.nz * 4, 0.0);
+  std::vector<double> nodes(grid.values(), 0.0);
+  const int row_nodes = grid.nz + grid.nw;
   tbb::parallel_for(tbb::blocked_range<int>(0, grid.nx), [&](const tbb::blocked_range<int>& rows) {
-    for (int i = rows.begin(); i != rows.end(); ++i)
-      for (int j = 0; j < grid.nz; ++j)
-        node_values(grid.x_min + i * grid.dx, j * grid.dz, &nodes[4 * (static_cast<std::size_t>(i) * grid.nz + j)]);
+    for (int i = rows.begin(); i != rows.end(); ++i) {
+      const double x = grid.x_min + i * grid.dx;
+      double* row = &nodes[4 * static_cast<std::size_t>(i) * row_nodes];
+      for (int j = 0; j < grid.nz; ++j) node_values(x, j * grid.dz, row + 4 * j);
+      for (int k = 0; k < grid.nw; ++k) {
+        double* node = row + 4 * (grid.nz + k);
+        const double z = kKernelZNear * std::exp(k * grid.dw);
+        node_values(x, z, node);
+        node[2] *= z, node[3] *= z;  // d/dw = z d/dz
+      }
+    }
   });
   return nodes;
 }
@@ -82,7 +94,7 @@ const KernelTable* KernelTable::for_tolerance(double tolerance) {
 KernelTable::KernelTable(Tier tier) : tier_(tier), spec_(spec_of(tier)) {
   const auto start = std::chrono::steady_clock::now();
   const detail::KernelGrid grid = detail::kernel_grid(spec_);
-  nx_ = grid.nx, nz_ = grid.nz, x_min_ = grid.x_min, dx_ = grid.dx, dz_ = grid.dz;
+  nx_ = grid.nx, nz_ = grid.nz, nw_ = grid.nw, x_min_ = grid.x_min, dx_ = grid.dx, dz_ = grid.dz, dw_ = grid.dw;
   const detail::EmbeddedKernelTable file = detail::embedded_kernel_table();
   if (file.data == nullptr) {  // the generator itself
     computed_ = compute_nodes(tier);
@@ -95,13 +107,13 @@ KernelTable::KernelTable(Tier tier) : tier_(tier), spec_(spec_of(tier)) {
     for (const Tier section : detail::kKernelTableTiers) {
       detail::KernelTableFileHeader header;
       const detail::KernelGrid expected = detail::kernel_grid(spec_of(section));
-      const std::size_t values = static_cast<std::size_t>(expected.nx) * expected.nz * 4;
+      const std::size_t values = expected.values();
       matches = matches && file.size >= offset + sizeof header;
       if (!matches) break;
       std::memcpy(&header, file.data + offset, sizeof header);
       matches = std::memcmp(header.magic, detail::kKernelTableMagic, sizeof header.magic) == 0 && header.nx == expected.nx &&
-                header.nz == expected.nz && header.x_min == expected.x_min && header.dx == expected.dx &&
-                header.dz == expected.dz && header.values == values && file.size >= offset + sizeof header + values * sizeof(double);
+                header.nz == expected.nz && header.nw == expected.nw && header.x_min == expected.x_min &&
+                header.dx == expected.dx && header.dz == expected.dz && header.dw == expected.dw && header.values == values && file.size >= offset + sizeof header + values * sizeof(double);
       if (!matches) break;
       if (section == tier) nodes_ = reinterpret_cast<const double*>(file.data + offset + sizeof header);
       offset += sizeof header + values * sizeof(double);
@@ -113,21 +125,26 @@ KernelTable::KernelTable(Tier tier) : tier_(tier), spec_(spec_of(tier)) {
 }
 
 double KernelTable::sigma(double g, double c) const {
+  const double z = std::sqrt(c / (g + 1.0));
+  if (z > kKernelZFar) return 0.0;  // Sigma < e^-745 there (kernel_table.h)
+  const bool far = z > kKernelZNear;
   const double u_x = (std::log(g) - x_min_) / dx_;
-  const double u_z = std::sqrt(c / (g + 1.0)) / dz_;
+  // The cell's column j in the row and the offset t in it: near in z, far in w = ln(z / kKernelZNear).
+  const double u_v = far ? nz_ + std::log(z / kKernelZNear) / dw_ : z / dz_;
+  const double dv = far ? dw_ : dz_;
   const int i = std::min(static_cast<int>(u_x), nx_ - 2);
-  const int j = std::min(static_cast<int>(u_z), nz_ - 2);
-  const double s = u_x - i, t = u_z - j;
+  const int j = std::min(static_cast<int>(u_v), (far ? row_nodes() : nz_) - 2);
+  const double s = u_x - i, t = u_v - j;
   // Cubic Hermite basis: value weights h0 (left), h1 (right); derivative weights d0, d1 (times
   // the cell size, applied below).
   const double s2 = s * s, s3 = s2 * s, t2 = t * t, t3 = t2 * t;
   const double hx[2] = {2 * s3 - 3 * s2 + 1, -2 * s3 + 3 * s2};
   const double gx[2] = {(s3 - 2 * s2 + s) * dx_, (s3 - s2) * dx_};
   const double hz[2] = {2 * t3 - 3 * t2 + 1, -2 * t3 + 3 * t2};
-  const double gz[2] = {(t3 - 2 * t2 + t) * dz_, (t3 - t2) * dz_};
+  const double gz[2] = {(t3 - 2 * t2 + t) * dv, (t3 - t2) * dv};
   double f = 0.0;
   for (int a = 0; a < 2; ++a) {
-    const double* row = &nodes_[4 * (static_cast<std::size_t>(i + a) * nz_ + j)];
+    const double* row = &nodes_[4 * (static_cast<std::size_t>(i + a) * row_nodes() + j)];
     for (int b = 0; b < 2; ++b) {
       const double* n = row + 4 * b;
       f += hx[a] * (hz[b] * n[0] + gz[b] * n[2]) + gx[a] * (hz[b] * n[1] + gz[b] * n[3]);
@@ -138,7 +155,8 @@ double KernelTable::sigma(double g, double c) const {
 
 std::size_t KernelTable::scaled_sigma_inside(const double* g, const double* c, std::size_t count, double scale, double* out,
                                              std::uint32_t* outside) const {
-  return detail::kernel_table_lanes(nodes_, nx_, nz_, x_min_, dx_, dz_, spec_.prefetch_rows, g, c, count, scale, out, outside);
+  const detail::KernelTableView view{nodes_, nx_, nz_, nw_, x_min_, dx_, dz_, dw_, spec_.prefetch_rows};
+  return detail::kernel_table_lanes(view, g, c, count, scale, out, outside);
 }
 
 void KernelTable::sigma_many(const double* g, const double* c, std::size_t count, double* sigma) const {

@@ -15,16 +15,18 @@ struct KernelTableFileHeader {
   char magic[8];
   std::int32_t nx, nz;
   double x_min, dx, dz;
-  std::uint64_t values;  // doubles that follow: 4 nx nz
-  std::uint64_t reserved[2];
+  std::uint64_t values;  // doubles that follow: 4 nx (nz + nw)
+  double dw;
+  std::int32_t nw, reserved;
 };
 static_assert(sizeof(KernelTableFileHeader) == 64);
-inline constexpr char kKernelTableMagic[8] = {'L', 'B', 'K', 'T', 'A', 'B', '0', '2'};
+inline constexpr char kKernelTableMagic[8] = {'L', 'B', 'K', 'T', 'A', 'B', '0', '3'};
 
 // The grid of a tier (kernel_table.h's constants).
 struct KernelGrid {
-  int nx, nz;
-  double x_min, dx, dz;
+  int nx, nz, nw;
+  double x_min, dx, dz, dw;
+  std::size_t values() const { return static_cast<std::size_t>(nx) * (nz + nw) * 4; }
 };
 KernelGrid kernel_grid(const KernelTableSpec& spec);
 inline constexpr KernelTable::Tier kKernelTableTiers[] = {KernelTable::Tier::fine, KernelTable::Tier::coarse};

@@ -33,14 +33,14 @@ int main(int argc, char** argv) {
       const libbrdf::detail::KernelGrid grid = libbrdf::detail::kernel_grid(table.spec());
       libbrdf::detail::KernelTableFileHeader header{};
       std::memcpy(header.magic, libbrdf::detail::kKernelTableMagic, sizeof header.magic);
-      header.nx = grid.nx, header.nz = grid.nz;
-      header.x_min = grid.x_min, header.dx = grid.dx, header.dz = grid.dz;
+      header.nx = grid.nx, header.nz = grid.nz, header.nw = grid.nw;
+      header.x_min = grid.x_min, header.dx = grid.dx, header.dz = grid.dz, header.dw = grid.dw;
       header.values = table.value_count();
       written = written && std::fwrite(&header, sizeof header, 1, file) == 1 &&
                 std::fwrite(table.nodes(), sizeof(double), table.value_count(), file) == table.value_count();
       char line[160];
-      std::snprintf(line, sizeof line, "%s%d x %d nodes, %.1f MB, certified %g, computed in %.3f s", summary.empty() ? "" : "; ",
-                    table.nx(), table.nz(), static_cast<double>(table.bytes()) / 1e6, table.certified_error(), table.build_seconds());
+      std::snprintf(line, sizeof line, "%s%d x (%d + %d) nodes, %.1f MB, certified %g, computed in %.3f s", summary.empty() ? "" : "; ",
+                    table.nx(), table.nz(), table.nw(), static_cast<double>(table.bytes()) / 1e6, table.certified_error(), table.build_seconds());
       summary += line;
     }
     if (std::fclose(file) != 0 || !written || std::rename(temporary.c_str(), out.c_str()) != 0) {

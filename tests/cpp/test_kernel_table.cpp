@@ -89,10 +89,10 @@ INSTANTIATE_TEST_SUITE_P(Tiers, KernelTableTier, ::testing::Values(KernelTable::
                            return std::string(tier.param == KernelTable::Tier::fine ? "fine" : "coarse");
                          });
 
-// The certified error of the kernel table: every cell of the domain (in z every row of cells of
-// ~150 evenly spaced) at its centre and at a random point, against the reference series (every
-// term, 1e-16). The claim (kernel_table.h) must hold with a margin of 2 (what a cell centre misses
-// of its worst point).
+// The certified error of the kernel table: every cell of the near section (in z every row of
+// cells of ~150 evenly spaced) at its centre and at a random point, against the reference series
+// (every term, 1e-16). The claim (kernel_table.h) must hold with a margin of 2 (what a cell centre
+// misses of its worst point). The far section: the next test.
 TEST_P(KernelTableTier, CertifiedErrorHoldsOverTheWholeDomain) {
   std::cout << "[ measured ] kernel table " << table.nx() << " x " << table.nz() << " nodes, " << static_cast<double>(table.bytes()) / 1e6
             << " MB, built in " << table.build_seconds() << " s\n";
@@ -109,7 +109,7 @@ TEST_P(KernelTableTier, CertifiedErrorHoldsOverTheWholeDomain) {
       for (int point = 0; point < 2; ++point) {
         const double s = point == 0 ? 0.5 : unit(rng), t = point == 0 ? 0.5 : unit(rng);
         const double x = table.x_min() + (i + s) * table.dx(), z = (j + t) * table.dz();
-        if (x > x_max || z > kKernelZMax) continue;
+        if (x > x_max || z > kKernelZNear) continue;
         const double g = std::exp(x), c = (g + 1.0) * z * z;
         if (!table.contains(g, c)) continue;
         const double ref = mbk_series_sum(g, c, reference);
@@ -128,6 +128,64 @@ TEST_P(KernelTableTier, CertifiedErrorHoldsOverTheWholeDomain) {
             << " over " << compared << " points (certified " << table.certified_error() << ")\n";
   EXPECT_GT(compared, 40000);
   EXPECT_LT(2.0 * worst, table.certified_error());
+}
+
+// The far section (kKernelZNear < z <= kKernelZFar, nodes even in ln z): every cell, at its centre
+// and at a random point, against the same reference; the same claim with the same margin. Its values
+// reach ~e^-745 (polished surfaces with l_c / lambda ~ 10 or more, at g << 1).
+TEST_P(KernelTableTier, CertifiedErrorHoldsOverTheFarSection) {
+  SeriesOptions reference;
+  reference.method = SeriesMethod::every_term;
+  reference.relative_tolerance = 1e-16;
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> unit(0, 1);
+  double worst = 0.0, worst_g = 0.0, worst_z = 0.0;
+  long long compared = 0;
+  for (int i = 0; i + 1 < table.nx(); ++i) {
+    for (int k = 0; k + 1 < table.nw(); ++k) {
+      for (int point = 0; point < 2; ++point) {
+        const double s = point == 0 ? 0.5 : unit(rng), t = point == 0 ? 0.5 : unit(rng);
+        const double x = table.x_min() + (i + s) * table.dx(), z = kKernelZNear * std::exp((k + t) * table.dw());
+        if (x > std::log(kKernelGMax) || z > kKernelZFar) continue;
+        const double g = std::exp(x), c = (g + 1.0) * z * z;
+        const double ref = mbk_series_sum(g, c, reference);
+        if (!(ref > 1e-300)) continue;
+        const double rel = std::abs(table.sigma(g, c) - ref) / ref;
+        ++compared;
+        if (rel > worst) worst = rel, worst_g = g, worst_z = z;
+      }
+    }
+  }
+  std::cout << "[ measured ] kernel table far section (" << table.nw() << " nodes per row) max relative error " << worst
+            << " at g=" << worst_g << " z=" << worst_z << " over " << compared << " points (certified " << table.certified_error() << ")\n";
+  EXPECT_GT(compared, 10000);
+  EXPECT_LT(2.0 * worst, table.certified_error());
+}
+
+// Beyond kKernelZFar the table returns 0: it may, because there ln Sigma < -745 (where exp
+// underflows and the series returns 0 as well) for every g of the domain. An independent
+// long-double sum (test_support.h) at z = kKernelZFar, every 0.01 in ln g, shows it; Sigma
+// decreases with c (every term does), so the rest follows. Every lookup gives exactly 0 there.
+TEST_P(KernelTableTier, SigmaVanishesBeyondTheFarSection) {
+  long double largest = -INFINITY;
+  double at_g = 0.0;
+  for (double x = std::log(kKernelGMin); x <= std::log(kKernelGMax); x += 0.01) {
+    const double g = std::exp(x);
+    const long double log_sigma = libbrdf_test::windowed_log_series(g, (g + 1.0) * kKernelZFar * kKernelZFar);
+    if (log_sigma > largest) largest = log_sigma, at_g = g;
+  }
+  std::cout << "[ measured ] largest ln Sigma at z = kKernelZFar: " << static_cast<double>(largest) << " at g=" << at_g << "\n";
+  EXPECT_LT(largest, -745.0L - 10.0L);
+  std::vector<double> g, c;
+  for (double gg : {kKernelGMin, 0.2, 1.0, 1e3, kKernelGMax})
+    for (double zz : {std::nextafter(kKernelZFar, INFINITY), 2.0 * kKernelZFar, 1e200}) g.push_back(gg), c.push_back(zz * zz * (gg + 1.0));
+  g.push_back(0.2), c.push_back(INFINITY);
+  std::vector<double> many(g.size(), -1.0);
+  table.sigma_many(g.data(), c.data(), g.size(), many.data());
+  for (std::size_t k = 0; k < g.size(); ++k) {
+    EXPECT_EQ(table.sigma(g[k], c[k]), 0.0) << "g=" << g[k] << " c=" << c[k];
+    EXPECT_EQ(many[k], 0.0) << "g=" << g[k] << " c=" << c[k];
+  }
 }
 
 // The table the library embeds (computed at build time by libbrdf_generate_kernel_table) is the
@@ -149,13 +207,16 @@ TEST_P(KernelTableTier, EmbeddedIsTheComputedTableBitForBit) {
 TEST_P(KernelTableTier, DomainEdges) {
   EXPECT_FALSE(table.contains(0.5 * kKernelGMin, 0.0));
   EXPECT_FALSE(table.contains(2.0 * kKernelGMax, 0.0));
-  EXPECT_FALSE(table.contains(1.0, 2.0 * (kKernelZMax * kKernelZMax) * 2.0));
+  EXPECT_FALSE(table.contains(1.0, -1e-300));
   EXPECT_TRUE(table.contains(kKernelGMin, 0.0));
-  EXPECT_TRUE(table.contains(kKernelGMax, kKernelZMax * kKernelZMax * (kKernelGMax + 1.0)));
-  // The largest g and z uses a cell of the table, not one beyond it (at z = kKernelZMax itself
-  // Sigma ~ e^-900 / g underflows, so z = 25 here).
-  const double g = kKernelGMax, c = 25.0 * 25.0 * (g + 1.0);
-  EXPECT_NEAR(table.sigma(g, c) / mbk_series_sum(g, c), 1.0, table.certified_error());
+  EXPECT_TRUE(table.contains(1.0, INFINITY));  // beyond kKernelZFar: 0
+  // The largest g and z of each section uses a cell of the table, not one beyond it (at
+  // z = kKernelZNear itself Sigma ~ e^-900 / g underflows at g = kKernelGMax, so z = 25 there; at
+  // kKernelZFar it has underflowed for every g, so z = 150 at g = 0.2, Sigma ~ e^-720).
+  for (const auto& [g, z] : {std::pair{kKernelGMax, 25.0}, std::pair{1.0, kKernelZNear}, std::pair{0.2, 150.0}}) {
+    const double c = z * z * (g + 1.0);
+    EXPECT_NEAR(table.sigma(g, c) / mbk_series_sum(g, c), 1.0, table.certified_error()) << "g=" << g << " z=" << z;
+  }
 }
 
 // asf_auto at a tolerance at or above a tier's certified error uses the coarsest such table inside
@@ -180,18 +241,18 @@ TEST(KernelTable, ChosenOnlyWhereCertified) {
   EXPECT_NE(regime, AsfRegime::table);
 }
 
-// The lookup in SIMD lanes (sigma_many, gathers) is the same interpolation as sigma: equal to
-// rounding (ln Sigma down to ~-900, so ~1e-13 relative after exp) on random in-domain points,
-// the domain's corners and a count that is not a whole number of vectors.
+// The lookup in SIMD lanes (sigma_many) is the same interpolation as sigma: equal to rounding
+// (ln Sigma down to ~-900, so ~1e-13 relative after exp) on random in-domain points of both
+// sections and beyond, the domain's corners and a count that is not a whole number of vectors.
 TEST_P(KernelTableTier, SigmaManyEqualsSigma) {
   std::mt19937_64 rng(21);
   std::uniform_real_distribution<double> unit(0, 1);
   std::vector<double> g, c;
   for (double gg : {kKernelGMin, 1.0, kKernelGMax})
-    for (double zz : {0.0, 0.5, kKernelZMax}) g.push_back(gg), c.push_back(zz * zz * (gg + 1.0));
-  while (g.size() < 1003) {
+    for (double zz : {0.0, 0.5, kKernelZNear, std::nextafter(kKernelZNear, INFINITY), kKernelZFar}) g.push_back(gg), c.push_back(zz * zz * (gg + 1.0));
+  while (g.size() < 1003) {  // both sections and beyond
     const double gg = std::exp(std::log(kKernelGMin) + unit(rng) * std::log(kKernelGMax / kKernelGMin));
-    const double zz = kKernelZMax * unit(rng);
+    const double zz = (g.size() % 2 ? kKernelZNear : 1.1 * kKernelZFar) * unit(rng);
     g.push_back(gg), c.push_back(zz * zz * (gg + 1.0));
   }
   std::vector<double> many(g.size());
@@ -208,14 +269,14 @@ TEST_P(KernelTableTier, SigmaManyEqualsSigma) {
 // outside.
 TEST_P(KernelTableTier, ScaledLookupHandsBackExactlyTheQueriesOutside) {
   const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
-  const double z2 = kKernelZMax * kKernelZMax;
+  const double z2 = kKernelZFar * kKernelZFar;
   std::vector<double> g, c;
   auto add = [&](double gg, double cc) { g.push_back(gg), c.push_back(cc); };
   for (int k = 0; k < 3; ++k) {  // each edge on either side, amid points inside
     add(kKernelGMin, 1.0), add(std::nextafter(kKernelGMin, 0.0), 1.0);
     add(kKernelGMax, 1.0), add(std::nextafter(kKernelGMax, inf), 1.0);
     add(2.0, 0.0), add(2.0, -1e-300);
-    add(2.0, z2 * 3.0), add(2.0, std::nextafter(z2 * 3.0, inf));
+    add(0.2, z2 * 1.2), add(0.2, std::nextafter(z2 * 1.2, inf));  // the far section's end: inside, then 0
     add(nan, 1.0), add(1.0, nan), add(inf, 1.0), add(1.0, inf), add(0.3, 20.0);
   }
   const double scale = 3.5;
@@ -234,7 +295,7 @@ TEST_P(KernelTableTier, ScaledLookupHandsBackExactlyTheQueriesOutside) {
     EXPECT_NEAR(out[k], scale * one, 1e-12 * scale * one) << "g=" << g[k] << " c=" << c[k];
     EXPECT_NEAR(many[k], one, 1e-12 * one) << k;
   }
-  EXPECT_EQ(expected.size(), 3u * 8u);  // the construction above: 8 of 13 per round outside
+  EXPECT_EQ(expected.size(), 3u * 6u);  // the construction above: 6 of 13 per round outside
   EXPECT_EQ(std::vector<std::uint32_t>(outside.begin(), outside.begin() + static_cast<std::ptrdiff_t>(count)), expected);
 }
 

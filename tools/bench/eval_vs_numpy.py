@@ -17,7 +17,7 @@ load on the machine hits the I/O run and the model runs alike. Everything runs o
 --all-cpus): one thread per evaluation, as numpy.
 
   tools/bench/eval_vs_numpy.py --brdf build/cli/brdf [--points 1000000] [--repeat 5] [--tolerance 1e-6 1e-4] [--models asf mbk]
-      [--methods auto series]
+      [--methods auto series] [--surface NAME SIGMA_S LC WAVELENGTH ...]
 --methods: `brdf eval --asf-method` values; each tolerance runs with `auto` (the default: the kernel table
 where certified), `series` runs at 1e-6 only (the series in SIMD lanes, what 1e-6 ran before the table
 was certified there).
@@ -156,10 +156,14 @@ def main():
     ap.add_argument("--tolerance", nargs="*", default=["1e-6", "1e-4"])
     ap.add_argument("--models", nargs="*", default=["asf", "mbk"])
     ap.add_argument("--methods", nargs="*", default=["auto", "series"])
+    ap.add_argument("--surface", nargs=4, action="append", metavar=("NAME", "SIGMA_S", "LC", "WAVELENGTH"),
+                    help="a surface to time instead of the issue's three (um; repeatable), e.g. --surface wide 0.005 20 0.5")
     ap.add_argument("--all-cpus", action="store_true",
                     help="let brdf and the module use every CPU (default: this process and its children on one CPU, "
                          "so that oneTBB runs one thread and its idle workers add no CPU time)")
     a = ap.parse_args()
+    surfaces = SURFACES if not a.surface else {
+        name: dict(sigma_s=float(sigma_s), lc=float(lc), wavelength=float(wavelength)) for name, sigma_s, lc, wavelength in a.surface}
     if not a.all_cpus:
         os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})  # inherited by the brdf runs
     rng = np.random.default_rng(1)
@@ -183,7 +187,7 @@ def main():
                    delimiter=",", fmt="%.17g")
         configs = [(m, t, "auto") for m in a.models for t in a.tolerance if "auto" in a.methods]
         configs += [(m, "1e-6", "series") for m in a.models if "series" in a.methods]
-        for name, s in SURFACES.items():
+        for name, s in surfaces.items():
             surface = ["--sigma-s", str(s["sigma_s"]), "--lc", str(s["lc"]), "--wavelength", str(s["wavelength"])]
             best_np, ref = best_cpu(lambda: numpy_asf(ti, ts, ps, **s), a.repeat)
             exact = reference_asf(ti[check], ts[check], ps[check], **s)

@@ -12,14 +12,18 @@
 // (kernel_table_data.S): a process pays nothing to start it. compute_nodes() recomputes them; a test
 // asserts that the embedded tables are that result bit for bit.
 //
-// Grid (described in kernel-layout LUT files' metadata):
-//   x = ln g                 nodes x_i = ln kKernelGMin + i dx,  i = 0 .. nx - 1
-//   z = sqrt(c / (g + 1))    nodes z_j = j dz,               j = 0 .. kKernelNz - 1
+// Grid (described in kernel-layout LUT files' metadata): each row i of nodes is a near section,
+// uniform in z, then a far section, uniform in w = ln(z / kKernelZNear):
+//   x = ln g                 nodes x_i = ln kKernelGMin + i dx,              i = 0 .. nx - 1
+//   z = sqrt(c / (g + 1))    near: z_j = j dz,                                j = 0 .. nz - 1
+//                            far:  z_k = kKernelZNear e^(k dw),               k = 0 .. nw - 1
 // z makes both ends smooth: for g >> 1, ln Sigma ~ -ln g - z^2 (a Gaussian in eta_r); for g << 1
 // the dominant term index m changes where c ~ m(m+1) ln(1/g), evenly spaced in sqrt(c). ln Sigma is
-// even in z (c = (g+1) z^2), so z = 0 is a symmetry line, not an edge.
-// Each node holds F = ln Sigma and its exact derivatives F_x, F_z, F_xz (from moments of the
-// series, not finite differences); lookups are bicubic Hermite in (x, z), then exp.
+// even in z (c = (g+1) z^2), so z = 0 is a symmetry line, not an edge. Beyond kKernelZNear the
+// switches of m spread over ~z / (2 ln 1/g) in z (a width growing with z), so the far section's
+// nodes are spaced evenly in ln z. Each node holds F = ln Sigma and its exact derivatives F_x,
+// F_v, F_xv in its section's coordinate v (z near, w far), from moments of the series, not finite
+// differences; lookups are bicubic Hermite in (x, v), then exp.
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -28,7 +32,15 @@ namespace libbrdf {
 
 inline constexpr double kKernelGMin = 1e-5;    // table domain in g (outside: closed forms or series)
 inline constexpr double kKernelGMax = 1e7;
-inline constexpr double kKernelZMax = 30.0;    // c / (g + 1) <= 900: values down to ~e^-900 of the peak
+inline constexpr double kKernelZNear = 30.0;   // end of the near section (uniform in z)
+// End of the far section. Beyond it Sigma < e^-745 for every g of the table (the largest z where
+// ln Sigma = -745 is ~153, at g ~ 0.2; test_kernel_table.cpp asserts ln Sigma < -745 at kKernelZFar
+// over the g range), and Sigma decreases with c (every term does): lookups there return 0, as the
+// series does below e^-745. Before the far section (z <= 30 only), surfaces with l_c >> sigma_s
+// sent most of their queries to the series (`brdf eval --timing`, asf minus g, 1e6 queries, same
+// run, before -> after): sigma_s = 0.005 um, l_c = 20 um, lambda = 0.5 um: 47.9 -> 14.4 ns;
+// 0.05, 5, 0.5: 23.4 -> 10.9 ns; 0.3, 10, 0.6: 15.4 -> 10.9 ns.
+inline constexpr double kKernelZFar = 170.0;
 // Two tables of Sigma on that grid, at two certified errors (tolerance tiers): the fine one for the
 // default tolerance, 1e-6, and a coarse one, 6x fewer nodes, for tolerances >= 1e-4 (`brdf eval
 // --timing`, asf minus g, 1e6 queries, same run: 9.1-9.5 ns at 1e-6, 6.1-6.9 ns at 1e-4). The
@@ -36,22 +48,25 @@ inline constexpr double kKernelZMax = 30.0;    // c / (g + 1) <= 900: values dow
 // switches within ~(m + 1/2) / (2 sqrt(ln 1/g)) in z (0.15 at g = 1e-5); in x at large g and z.
 // Measured max (the sweep below): dz = dx = 1/10: 2.1e-5 (at g = 1.3e-5, z = 5.05); 1/20, 1/25:
 // 4.6e-7 (g ~ 1e-5); 1/20, 1/30: 2.7e-7. 1/10 x 1/8 would be ~5e-5 (h^4), without the margin of 2.
+// Far section: dw = 1/150 with dx = 1/20: 3.0e-7 (at g = 0.19, z = 142); 1/50 with 1/10: 1.8e-5
+// (g = 1.05e-5, z = 32). Sizes: fine 555 x (902 + 263) nodes, 20.7 MB; coarse 279 x (302 + 89), 3.5 MB.
 struct KernelTableSpec {
   int nodes_per_unit_x;    // dx = 1 / this, in ln g
-  int nodes_per_unit_z;    // dz = 1 / this
+  int nodes_per_unit_z;    // dz = 1 / this (near section)
+  int nodes_per_unit_w;    // dw = 1 / this, in w = ln(z / kKernelZNear) (far section)
   // The largest relative error of KernelTable::sigma against the series over the domain, measured
   // by a dense sweep (tests/cpp/test_kernel_table.cpp asserts it with a margin of 2; `brdf bench`
   // reports it). The automatic method choice (asf_auto) uses a table only where the caller's
   // tolerance is >= this.
   double certified_error;
   // Whether lookups prefetch each query's cell rows while locating the cells: the fine table's
-  // 16 MB spread a surface's queries over MBs, past L2 (17.0 -> 12.2 ns per query, polished); the
+  // MBs spread a surface's queries over MBs, past L2 (17.0 -> 12.2 ns per query, polished); the
   // coarse table's band of a surface stays in L2, where the prefetches only cost (polished,
   // single pass: 6.9 -> 5.4 ns per query without them).
   bool prefetch_rows;
 };
-inline constexpr KernelTableSpec kKernelTableFine{20, 30, 1e-6, true};    // 555 x 902 nodes, 16 MB
-inline constexpr KernelTableSpec kKernelTableCoarse{10, 10, 1e-4, false};  // 279 x 302 nodes, 2.7 MB
+inline constexpr KernelTableSpec kKernelTableFine{20, 30, 150, 1e-6, true};
+inline constexpr KernelTableSpec kKernelTableCoarse{10, 10, 50, 1e-4, false};
 inline constexpr double kKernelTableCertifiedError = kKernelTableFine.certified_error;
 
 class KernelTable {
@@ -66,11 +81,12 @@ class KernelTable {
   // Every node of a tier's grid from the series (multi-threaded): 4 doubles per node as nodes().
   static std::vector<double> compute_nodes(Tier tier);
 
-  // True when (g, c) lies inside the tables' domain: kKernelGMin <= g <= kKernelGMax, z <= kKernelZMax.
+  // True when (g, c) lies inside the tables' domain: kKernelGMin <= g <= kKernelGMax, c >= 0 (up to
+  // +Inf: beyond kKernelZFar the value is 0).
   bool contains(double g, double c) const {  // inline: asf_regime asks it for every scalar query
-    return g >= kKernelGMin && g <= kKernelGMax && c >= 0.0 && c <= kKernelZMax * kKernelZMax * (g + 1.0);
+    return g >= kKernelGMin && g <= kKernelGMax && c >= 0.0;
   }
-  // Sigma(g, c) by bicubic Hermite interpolation of ln Sigma; only for contains(g, c).
+  // Sigma(g, c) by bicubic Hermite interpolation of ln Sigma (0 beyond kKernelZFar); only for contains(g, c).
   double sigma(double g, double c) const;
   // sigma[k] = sigma(g[k], c[k]) for k < count, one query per SIMD lane (cell rows loaded per lane
   // and transposed); the same interpolation up to rounding. NaN where not contains(g[k], c[k]).
@@ -85,13 +101,17 @@ class KernelTable {
   const KernelTableSpec& spec() const { return spec_; }
   double certified_error() const { return spec_.certified_error; }
   int nx() const { return nx_; }
-  int nz() const { return nz_; }
+  int nz() const { return nz_; }  // near section's nodes per row
+  int nw() const { return nw_; }  // far section's nodes per row
+  int row_nodes() const { return nz_ + nw_; }
   double x_min() const { return x_min_; }
   double dx() const { return dx_; }
   double dz() const { return dz_; }
-  // Node data: 4 doubles per node (F, F_x, F_z, F_xz), node (i, j) at index 4 (i nz + j).
+  double dw() const { return dw_; }
+  // Node data: 4 doubles per node (F, F_x, F_v, F_xv), node j of row i at index 4 (i row_nodes() + j):
+  // j < nz near (v = z), j >= nz far (v = w, k = j - nz).
   const double* nodes() const { return nodes_; }
-  std::size_t value_count() const { return static_cast<std::size_t>(nx_) * nz_ * 4; }
+  std::size_t value_count() const { return static_cast<std::size_t>(nx_) * row_nodes() * 4; }
   std::size_t bytes() const { return value_count() * sizeof(double); }
   // True when the nodes are the library's embedded ones (no computation in this process).
   bool embedded() const { return computed_.empty(); }
@@ -102,8 +122,8 @@ class KernelTable {
   explicit KernelTable(Tier tier);
   Tier tier_;
   KernelTableSpec spec_;
-  int nx_ = 0, nz_ = 0;
-  double x_min_ = 0.0, dx_ = 0.0, dz_ = 0.0;
+  int nx_ = 0, nz_ = 0, nw_ = 0;
+  double x_min_ = 0.0, dx_ = 0.0, dz_ = 0.0, dw_ = 0.0;
   const double* nodes_ = nullptr;
   std::vector<double> computed_;  // empty when embedded
   double build_seconds_ = 0.0;
