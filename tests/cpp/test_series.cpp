@@ -325,7 +325,7 @@ INSTANTIATE_TEST_SUITE_P(Tolerances, AutoRegime, testing::Values(1e-6, 1e-4, 1e-
 // default tolerance and the kernel table's. Grid: g log-spaced over [1e-8, 1e7] plus 0; c = 0,
 // log-spaced over [1e-6, 1e7], and u g with u in [1e-3, 30] (a rough surface's lobe), the whole
 // grid in one shuffled batch (the batch sorts and packs queries of every regime into lanes).
-// Method choice: where asf_auto takes a closed form the batch is bit-identical (it calls it);
+// Method choice: where asf_auto takes a closed form the batch is bit-identical (asf_regime chooses it);
 // elsewhere both are the same method, so they agree well inside the tolerance: the table to
 // rounding, two series truncated at tolerance/10 to tolerance/5 -- a table value where asf_auto
 // sums the series (or the reverse) would differ by up to the table's certified 1e-4.
