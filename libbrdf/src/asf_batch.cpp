@@ -292,7 +292,9 @@ std::size_t KernelTableLanes(const KernelTableView& table, const double* g, cons
   const V g_min = hn::Set(d, kKernelGMin), g_max = hn::Set(d, kKernelGMax);
   const V z_near = hn::Set(d, kKernelZNear), z_far = hn::Set(d, kKernelZFar);
   std::size_t outside_count = 0;
-  const std::ptrdiff_t row_stride = 4 * static_cast<std::ptrdiff_t>(table.nz + table.nw);  // node (i + 1, j) - node (i, j)
+  // node (i + 1, j) - node (i, j), in each section; the far section's first node.
+  const V near_stride = hn::Set(d, 4.0 * table.nz), far_stride = hn::Set(d, 4.0 * table.nw);
+  const V far_base = hn::Set(d, 4.0 * table.nx * table.nz);
   alignas(64) double gb[kMaxLanes], cb[kMaxLanes], out[kMaxLanes];
   // Two chunks in flight: the cells of chunk k + 1 are located (and their rows prefetched) before
   // chunk k is interpolated, so that the prefetches lead the loads by a whole chunk.
@@ -300,13 +302,16 @@ std::size_t KernelTableLanes(const KernelTableView& table, const double* g, cons
     // Cell offsets (s, t) and the cell's size in its z coordinate (dz near, dw far; 0 beyond
     // kKernelZFar, where the value is 0).
     alignas(64) double s[kTableChunk], t[kTableChunk], dv[kTableChunk];
-    alignas(64) hn::TFromD<decltype(di)> node[kTableChunk];  // index of node (i, j) of each query's cell
+    // Index of node (i, j) of each query's cell, and of node (i + 1, j) minus it (the far
+    // section's rows are shorter).
+    alignas(64) hn::TFromD<decltype(di)> node[kTableChunk], stride[kTableChunk];
   } cells[2];
   auto locate = [&](std::size_t k0, Cells& at) {
     double* const s_chunk = at.s;
     double* const t_chunk = at.t;
     double* const dv_chunk = at.dv;
     auto* const node_chunk = at.node;
+    auto* const stride_chunk = at.stride;
     const std::size_t chunk = std::min(kTableChunk, count - k0);
     for (std::size_t k = 0; k < chunk; k += n) {
       const std::size_t m = std::min(n, chunk - k);
@@ -328,27 +333,31 @@ std::size_t KernelTableLanes(const KernelTableView& table, const double* g, cons
       }
       const V ux = hn::Mul(hn::Sub(hn::Log(d, vg), hn::Set(d, table.x_min)), inv_dx);
       const V z = hn::Sqrt(hn::Div(vc, hn::Add(vg, one)));
-      // The cell's column in the row (as KernelTable::sigma): near, z / dz below kKernelZNear; far,
-      // nz + ln(z / kKernelZNear) / dw (its log only where a lane needs it); beyond kKernelZFar, a
-      // near cell whose value is then replaced by 0.
+      const V fi = hn::Min(hn::Floor(ux), hn::Set(d, table.nx - 2.0));
+      // The cell (as KernelTable::sigma): near, column z / dz below kKernelZNear; far, column
+      // ln(z / kKernelZNear) / dw of the far section (its log only where a lane needs it); beyond
+      // kKernelZFar, a near cell whose value is then replaced by 0.
       V uv = hn::Mul(z, inv_dz), fj = hn::Min(hn::Floor(uv), hn::Set(d, table.nz - 2.0)), dv = vdz;
+      V node = hn::Mul(hn::MulAdd(fi, hn::Set(d, double(table.nz)), fj), hn::Set(d, 4.0)), stride = near_stride;
       const auto far = hn::Gt(z, z_near);
       if (!hn::AllFalse(d, far)) {
         const auto beyond = hn::Not(hn::Le(z, z_far));  // +Inf too
-        const V uw = hn::MulAdd(hn::Log(d, hn::Mul(hn::Min(z, z_far), hn::Set(d, 1.0 / kKernelZNear))),
-                                hn::Set(d, 1.0 / table.dw), hn::Set(d, double(table.nz)));
+        const V uw = hn::Mul(hn::Log(d, hn::Mul(hn::Min(z, z_far), hn::Set(d, 1.0 / kKernelZNear))), hn::Set(d, 1.0 / table.dw));
+        const V fk = hn::Min(hn::Floor(uw), hn::Set(d, table.nw - 2.0));
         const auto far_cell = hn::AndNot(beyond, far);
         uv = hn::IfThenElse(far_cell, uw, hn::IfThenZeroElse(beyond, uv));
-        fj = hn::IfThenElse(far_cell, hn::Min(hn::Floor(uw), hn::Set(d, table.nz + table.nw - 2.0)), hn::IfThenZeroElse(beyond, fj));
+        fj = hn::IfThenElse(far_cell, fk, hn::IfThenZeroElse(beyond, fj));
         dv = hn::IfThenElse(far_cell, vdw, hn::IfThenZeroElse(beyond, vdz));
+        const V far_node = hn::MulAdd(hn::MulAdd(fi, hn::Set(d, double(table.nw)), fk), hn::Set(d, 4.0), far_base);
+        node = hn::IfThenElse(far_cell, far_node, hn::Mul(hn::MulAdd(fi, hn::Set(d, double(table.nz)), fj), hn::Set(d, 4.0)));
+        stride = hn::IfThenElse(far_cell, far_stride, near_stride);
       }
-      const V fi = hn::Min(hn::Floor(ux), hn::Set(d, table.nx - 2.0));
       hn::Store(hn::Sub(ux, fi), d, s_chunk + k), hn::Store(hn::Sub(uv, fj), d, t_chunk + k), hn::Store(dv, d, dv_chunk + k);
-      hn::Store(hn::ConvertTo(di, hn::Mul(hn::Set(d, 4.0), hn::MulAdd(fi, hn::Set(d, table.nz + table.nw), fj))), di, node_chunk + k);
+      hn::Store(hn::ConvertTo(di, node), di, node_chunk + k), hn::Store(hn::ConvertTo(di, stride), di, stride_chunk + k);
       if (table.prefetch_rows) {
         for (std::size_t q = 0; q < n; ++q)
           for (std::ptrdiff_t a = 0; a < 2; ++a) {
-            const double* row = nodes + node_chunk[k + q] + a * row_stride;
+            const double* row = nodes + node_chunk[k + q] + a * stride_chunk[k + q];
             hwy::Prefetch(row);
             hwy::Prefetch(row + 7);
           }
@@ -360,6 +369,7 @@ std::size_t KernelTableLanes(const KernelTableView& table, const double* g, cons
     const double* const t_chunk = at.t;
     const double* const dv_chunk = at.dv;
     const auto* const node_chunk = at.node;
+    const auto* const stride_chunk = at.stride;
     const std::size_t chunk = std::min(kTableChunk, count - k0);
     for (std::size_t k = 0; k < chunk; k += n) {
       const std::size_t m = std::min(n, chunk - k);
@@ -379,7 +389,7 @@ std::size_t KernelTableLanes(const KernelTableView& table, const double* g, cons
         V col[8];
         for (std::size_t e0 = 0; e0 < 8; e0 += n) {
           V v[n];
-          for (std::size_t q = 0; q < n; ++q) v[q] = hn::LoadU(d, nodes + node_chunk[k + q] + a * row_stride + e0);
+          for (std::size_t q = 0; q < n; ++q) v[q] = hn::LoadU(d, nodes + node_chunk[k + q] + a * stride_chunk[k + q] + e0);
           TransposeSquare(d, v);
           std::copy(v, v + n, col + e0);
         }

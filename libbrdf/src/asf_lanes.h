@@ -24,8 +24,9 @@ inline constexpr double kLaneMaxStride = 16.0;
 std::size_t series_query_lanes(const double* g, const double* c, std::size_t count, double relative_tolerance,
                                double* sigma, std::uint32_t* rejected);
 
-// A kernel table's grid and nodes (kernel_table.h): 4 doubles per node (F, F_x, F_v, F_xv), node j
-// of row i at 4 (i (nz + nw) + j); j < nz near (v = z, spacing dz), j >= nz far (v = w, spacing dw).
+// A kernel table's grid and nodes (kernel_table.h): 4 doubles per node (F, F_x, F_v, F_xv); near
+// node (i, j) at 4 (i nz + j) (v = z, spacing dz), far node (i, k) at 4 (nx nz + i nw + k) (v = w,
+// spacing dw).
 struct KernelTableView {
   const double* nodes;
   int nx, nz, nw;

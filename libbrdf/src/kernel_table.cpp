@@ -63,14 +63,15 @@ KernelGrid kernel_grid(const KernelTableSpec& spec) {
 std::vector<double> KernelTable::compute_nodes(Tier tier) {
   const detail::KernelGrid grid = detail::kernel_grid(spec_of(tier));
   std::vector<double> nodes(grid.values(), 0.0);
-  const int row_nodes = grid.nz + grid.nw;
+  double* const far_block = &nodes[4 * static_cast<std::size_t>(grid.nx) * grid.nz];
   tbb::parallel_for(tbb::blocked_range<int>(0, grid.nx), [&](const tbb::blocked_range<int>& rows) {
     for (int i = rows.begin(); i != rows.end(); ++i) {
       const double x = grid.x_min + i * grid.dx;
-      double* row = &nodes[4 * static_cast<std::size_t>(i) * row_nodes];
-      for (int j = 0; j < grid.nz; ++j) node_values(x, j * grid.dz, row + 4 * j);
+      double* near_row = &nodes[4 * static_cast<std::size_t>(i) * grid.nz];
+      for (int j = 0; j < grid.nz; ++j) node_values(x, j * grid.dz, near_row + 4 * j);
+      double* far_row = far_block + 4 * static_cast<std::size_t>(i) * grid.nw;
       for (int k = 0; k < grid.nw; ++k) {
-        double* node = row + 4 * (grid.nz + k);
+        double* node = far_row + 4 * k;
         const double z = kKernelZNear * std::exp(k * grid.dw);
         node_values(x, z, node);
         node[2] *= z, node[3] *= z;  // d/dw = z d/dz
@@ -129,11 +130,13 @@ double KernelTable::sigma(double g, double c) const {
   if (z > kKernelZFar) return 0.0;  // Sigma < e^-745 there (kernel_table.h)
   const bool far = z > kKernelZNear;
   const double u_x = (std::log(g) - x_min_) / dx_;
-  // The cell's column j in the row and the offset t in it: near in z, far in w = ln(z / kKernelZNear).
-  const double u_v = far ? nz_ + std::log(z / kKernelZNear) / dw_ : z / dz_;
+  // The cell's column j in its section and the offset t in it: near in z, far in w = ln(z / kKernelZNear).
+  const double u_v = far ? std::log(z / kKernelZNear) / dw_ : z / dz_;
   const double dv = far ? dw_ : dz_;
+  const int row_nodes = far ? nw_ : nz_;
+  const double* section = far ? nodes_ + 4 * static_cast<std::size_t>(nx_) * nz_ : nodes_;
   const int i = std::min(static_cast<int>(u_x), nx_ - 2);
-  const int j = std::min(static_cast<int>(u_v), (far ? row_nodes() : nz_) - 2);
+  const int j = std::min(static_cast<int>(u_v), row_nodes - 2);
   const double s = u_x - i, t = u_v - j;
   // Cubic Hermite basis: value weights h0 (left), h1 (right); derivative weights d0, d1 (times
   // the cell size, applied below).
@@ -144,7 +147,7 @@ double KernelTable::sigma(double g, double c) const {
   const double gz[2] = {(t3 - 2 * t2 + t) * dv, (t3 - t2) * dv};
   double f = 0.0;
   for (int a = 0; a < 2; ++a) {
-    const double* row = &nodes_[4 * (static_cast<std::size_t>(i + a) * row_nodes() + j)];
+    const double* row = section + 4 * (static_cast<std::size_t>(i + a) * row_nodes + j);
     for (int b = 0; b < 2; ++b) {
       const double* n = row + 4 * b;
       f += hx[a] * (hz[b] * n[0] + gz[b] * n[2]) + gx[a] * (hz[b] * n[1] + gz[b] * n[3]);
