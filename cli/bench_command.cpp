@@ -64,6 +64,9 @@ struct BenchSurface {
   double sigma_s_um, lc_um;
 };
 constexpr BenchSurface kSurfaces[] = {{"polished", 0.01, 2.0}, {"intermediate", 0.1, 2.0}, {"rough", 0.5, 5.0}};
+// A polished surface with a long correlation length (l_c / lambda = 36): most of its queries have
+// z = sqrt(c/(g+1)) > 30, the kernel table's far section (kernel_table.h). The ASF's paths only.
+constexpr BenchSurface kLongCorrelationSurface{"polished-lc20", 0.01, 20.0};
 constexpr double kWavelengthUm = 0.55;
 constexpr double kFloorFraction = 1e-3;
 const libbrdf::Direction kSunDirection{0.3, 0.0, 1.0}, kCameraDirection{-0.5, 0.2, 1.0};
@@ -209,21 +212,7 @@ class Bench {
     add_model_row("fast_path", ModelKind::mbk, s, strided, "series strided (tol 0)");
     add_model_row("fast_path", ModelKind::mbk_polished, s, gold(s), "closed form eq. 14");
     add_model_row("fast_path", ModelKind::mbk_rough, s, gold(s), "closed form eq. 15");
-    // The ASF alone (eq. 11, K = 1): the series, the kernel table, and the landed method.
-    add_model_row("fast_path", ModelKind::asf, s, series_only, "series SIMD tol 1e-6 (--asf-method series)");
-    add_asf_batch_row(s, series_only, "batch: series in lanes tol 1e-6");
-    add_model_row("fast_path", ModelKind::asf, s, gold(s), "kernel table tol 1e-6 (default)");
-    add_asf_batch_row(s, gold(s), "batch: kernel table in lanes tol 1e-6 (default)");
-    ModelParameters coarse = gold(s);  // KernelTable::for_tolerance: the coarse tier (kernel_table.h)
-    coarse.tolerance = libbrdf::kKernelTableCoarse.certified_error;
-    add_model_row("fast_path", ModelKind::asf, s, coarse, "kernel table tol 1e-4 (coarse tier)");
-    add_asf_batch_row(s, coarse, "batch: kernel table in lanes tol 1e-4 (coarse tier)");
-    ModelParameters asf_landed = reference_parameters(s);
-    asf_landed.series.method = libbrdf::SeriesMethod::strided;
-    add_model_row("fast_path", ModelKind::asf, s, asf_landed, "series strided scalar (landed method; tol 0)");
-    ModelParameters asf_simd_exact = reference_parameters(s);
-    asf_simd_exact.series.method = libbrdf::SeriesMethod::simd;
-    add_model_row("fast_path", ModelKind::asf, s, asf_simd_exact, "series SIMD tol 0 (1e-14 truncation)");
+    add_asf_rows(s);
     ModelParameters tis = gold(s);
     tis.k_mode = libbrdf::KMode::tis;
     add_model_row("fast_path", ModelKind::mbk, s, tis, "k-mode tis (vs plane)");
@@ -252,6 +241,33 @@ class Bench {
   }
 
   // The MERL-size bake (90 x 90 x 180 x 3 wavelengths, mbk with K): nodes x channels per second.
+  // The ASF alone (eq. 11, K = 1): the series, the kernel table, and the landed method.
+  void add_asf_rows(const BenchSurface& s) {
+    ModelParameters series_only = gold(s);
+    series_only.series.allow_kernel_table = false;
+    add_model_row("fast_path", ModelKind::asf, s, series_only, "series SIMD tol 1e-6 (--asf-method series)");
+    add_asf_batch_row(s, series_only, "batch: series in lanes tol 1e-6");
+    add_model_row("fast_path", ModelKind::asf, s, gold(s), "kernel table tol 1e-6 (default)");
+    add_asf_batch_row(s, gold(s), "batch: kernel table in lanes tol 1e-6 (default)");
+    ModelParameters coarse = gold(s);  // KernelTable::for_tolerance: the coarse tier (kernel_table.h)
+    coarse.tolerance = libbrdf::kKernelTableCoarse.certified_error;
+    add_model_row("fast_path", ModelKind::asf, s, coarse, "kernel table tol 1e-4 (coarse tier)");
+    add_asf_batch_row(s, coarse, "batch: kernel table in lanes tol 1e-4 (coarse tier)");
+    ModelParameters asf_landed = reference_parameters(s);
+    asf_landed.series.method = libbrdf::SeriesMethod::strided;
+    add_model_row("fast_path", ModelKind::asf, s, asf_landed, "series strided scalar (landed method; tol 0)");
+    ModelParameters asf_simd_exact = reference_parameters(s);
+    asf_simd_exact.series.method = libbrdf::SeriesMethod::simd;
+    add_model_row("fast_path", ModelKind::asf, s, asf_simd_exact, "series SIMD tol 0 (1e-14 truncation)");
+  }
+
+  // A surface for the ASF's paths alone (kLongCorrelationSurface).
+  void run_asf_surface(const BenchSurface& s) {
+    references_.clear();
+    slice_references_.clear();
+    add_asf_rows(s);
+  }
+
   void add_bake_row(const BenchSurface& s) {
     libbrdf::BakeRequest request = rgb_gold_request(s);
     request.layout = LutLayout::merl;
@@ -472,6 +488,8 @@ int run_bench(const BenchOptions& o) {
     std::cerr << "bench: " << s.name << " surface\n";
     bench.run_surface(s);
   }
+  std::cerr << "bench: " << kLongCorrelationSurface.name << " surface (ASF paths)\n";
+  bench.run_asf_surface(kLongCorrelationSurface);
   bench.add_bake_row(kSurfaces[1]);
   const std::string csv = o.out + "/bench.csv", png = o.out + "/bench.png";
   write_csv(bench.rows(), csv);
