@@ -302,16 +302,14 @@ std::size_t KernelTableLanes(const KernelTableView& table, const double* g, cons
     // Cell offsets (s, t) and the cell's size in its z coordinate (dz near, dw far; 0 beyond
     // kKernelZFar, where the value is 0).
     alignas(64) double s[kTableChunk], t[kTableChunk], dv[kTableChunk];
-    // Index of node (i, j) of each query's cell, and of node (i + 1, j) minus it (the far
-    // section's rows are shorter).
-    alignas(64) hn::TFromD<decltype(di)> node[kTableChunk], stride[kTableChunk];
+    // Index of node (i, j) and of node (i + 1, j) of each query's cell (the far section's rows
+    // are shorter than the near section's).
+    alignas(64) hn::TFromD<decltype(di)> node[2][kTableChunk];
   } cells[2];
   auto locate = [&](std::size_t k0, Cells& at) {
     double* const s_chunk = at.s;
     double* const t_chunk = at.t;
     double* const dv_chunk = at.dv;
-    auto* const node_chunk = at.node;
-    auto* const stride_chunk = at.stride;
     const std::size_t chunk = std::min(kTableChunk, count - k0);
     for (std::size_t k = 0; k < chunk; k += n) {
       const std::size_t m = std::min(n, chunk - k);
@@ -353,11 +351,11 @@ std::size_t KernelTableLanes(const KernelTableView& table, const double* g, cons
         stride = hn::IfThenElse(far_cell, far_stride, near_stride);
       }
       hn::Store(hn::Sub(ux, fi), d, s_chunk + k), hn::Store(hn::Sub(uv, fj), d, t_chunk + k), hn::Store(dv, d, dv_chunk + k);
-      hn::Store(hn::ConvertTo(di, node), di, node_chunk + k), hn::Store(hn::ConvertTo(di, stride), di, stride_chunk + k);
+      hn::Store(hn::ConvertTo(di, node), di, at.node[0] + k), hn::Store(hn::ConvertTo(di, hn::Add(node, stride)), di, at.node[1] + k);
       if (table.prefetch_rows) {
         for (std::size_t q = 0; q < n; ++q)
-          for (std::ptrdiff_t a = 0; a < 2; ++a) {
-            const double* row = nodes + node_chunk[k + q] + a * stride_chunk[k + q];
+          for (std::size_t a = 0; a < 2; ++a) {
+            const double* row = nodes + at.node[a][k + q];
             hwy::Prefetch(row);
             hwy::Prefetch(row + 7);
           }
@@ -368,8 +366,7 @@ std::size_t KernelTableLanes(const KernelTableView& table, const double* g, cons
     const double* const s_chunk = at.s;
     const double* const t_chunk = at.t;
     const double* const dv_chunk = at.dv;
-    const auto* const node_chunk = at.node;
-    const auto* const stride_chunk = at.stride;
+
     const std::size_t chunk = std::min(kTableChunk, count - k0);
     for (std::size_t k = 0; k < chunk; k += n) {
       const std::size_t m = std::min(n, chunk - k);
@@ -389,7 +386,7 @@ std::size_t KernelTableLanes(const KernelTableView& table, const double* g, cons
         V col[8];
         for (std::size_t e0 = 0; e0 < 8; e0 += n) {
           V v[n];
-          for (std::size_t q = 0; q < n; ++q) v[q] = hn::LoadU(d, nodes + node_chunk[k + q] + a * stride_chunk[k + q] + e0);
+          for (std::size_t q = 0; q < n; ++q) v[q] = hn::LoadU(d, nodes + at.node[a][k + q] + e0);
           TransposeSquare(d, v);
           std::copy(v, v + n, col + e0);
         }
