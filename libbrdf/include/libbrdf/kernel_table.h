@@ -40,7 +40,7 @@ inline constexpr double kKernelZNear = 30.0;   // end of the near section (unifo
 // sent most of their queries to the series (`brdf eval --timing`, asf minus g, 1e6 queries, same
 // run, before -> after): sigma_s = 0.005 um, l_c = 20 um, lambda = 0.5 um: 44.2 -> 13.6 ns;
 // 0.05, 5, 0.5: 21.5 -> 10.8 ns; 0.3, 10, 0.6: 14.1 -> 10.6 ns. The three surfaces, which
-// do not reach it, pay ~0.2-0.9 ns per query for the test (within this machine's noise).
+// do not reach it, pay ~0-0.5 ns per query for the test (within this machine's noise).
 inline constexpr double kKernelZFar = 170.0;
 // Two tables of Sigma on that grid, at two certified errors (tolerance tiers): the fine one for the
 // default tolerance, 1e-6, and a coarse one, 6x fewer nodes, for tolerances >= 1e-4 (`brdf eval
