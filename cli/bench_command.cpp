@@ -240,7 +240,6 @@ class Bench {
     add_rgb_lookup_row(s, LutLayout::kernel, {2, 2, 2}, KernelAngular::closed_form);
   }
 
-  // The MERL-size bake (90 x 90 x 180 x 3 wavelengths, mbk with K): nodes x channels per second.
   // The ASF alone (eq. 11, K = 1): the series, the kernel table, and the landed method.
   void add_asf_rows(const BenchSurface& s) {
     ModelParameters series_only = gold(s);
@@ -268,6 +267,7 @@ class Bench {
     add_asf_rows(s);
   }
 
+  // The MERL-size bake (90 x 90 x 180 x 3 wavelengths, mbk with K): nodes x channels per second.
   void add_bake_row(const BenchSurface& s) {
     libbrdf::BakeRequest request = rgb_gold_request(s);
     request.layout = LutLayout::merl;

@@ -3,7 +3,6 @@
 // window of terms is, its stride, the truncation tolerance) is made by mbk_series.cpp.
 #include <cstddef>
 
-
 namespace libbrdf::detail {
 
 struct SeriesPlan {

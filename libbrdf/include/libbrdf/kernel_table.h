@@ -12,8 +12,8 @@
 // (kernel_table_data.S): a process pays nothing to start it. compute_nodes() recomputes them; a test
 // asserts that the embedded tables are that result bit for bit.
 //
-// Grid (described in kernel-layout LUT files' metadata): each row i of nodes is a near section,
-// uniform in z, then a far section, uniform in w = ln(z / kKernelZNear):
+// Grid (described in kernel-layout LUT files' metadata): a near section, uniform in z, and a far
+// section, uniform in w = ln(z / kKernelZNear), each a block of nx rows (nodes() below):
 //   x = ln g                 nodes x_i = ln kKernelGMin + i dx,              i = 0 .. nx - 1
 //   z = sqrt(c / (g + 1))    near: z_j = j dz,                                j = 0 .. nz - 1
 //                            far:  z_k = kKernelZNear e^(k dw),               k = 0 .. nw - 1
@@ -60,8 +60,8 @@ struct KernelTableSpec {
   // reports it). The automatic method choice (asf_auto) uses a table only where the caller's
   // tolerance is >= this.
   double certified_error;
-  // Whether lookups prefetch each query's cell rows while locating the cells: the fine table's
-  // MBs spread a surface's queries over MBs, past L2 (17.0 -> 12.2 ns per query, polished); the
+  // Whether lookups prefetch each query's cell rows while locating the cells: in the fine table a
+  // surface's queries spread over MBs, past L2 (17.0 -> 12.2 ns per query, polished); the
   // coarse table's band of a surface stays in L2, where the prefetches only cost (polished,
   // single pass: 6.9 -> 5.4 ns per query without them).
   bool prefetch_rows;
