@@ -8,14 +8,21 @@
 
 namespace libbrdf {
 
-ScatterGeometry make_scatter_geometry(const ScatterAngles& angles) {
+namespace {
+// The sines and cosines of the span version (make_scatter_geometries), so that a query gives the
+// same bits whichever path derives its geometry (batch.h: every front end agrees); after the
+// angles' validation. trig: cos, sin of theta_i, theta_s, phi_s.
+void validated_scatter_trig(const ScatterAngles& angles, double* trig) {
   require_polar_angle("theta_i", angles.theta_i);
   require_polar_angle("theta_s", angles.theta_s);
   require_finite("phi_s", angles.phi_s);
-  // The sines and cosines of the span version (make_scatter_geometries), so that a query gives
-  // the same bits whichever path derives its geometry (batch.h: every front end agrees).
-  double trig[6];
   detail::scatter_trig(&angles, 1, trig);
+}
+}  // namespace
+
+ScatterGeometry make_scatter_geometry(const ScatterAngles& angles) {
+  double trig[6];
+  validated_scatter_trig(angles, trig);
   return scatter_geometry_from_trig(trig[0], trig[1], trig[2], trig[3], trig[4], trig[5]);
 }
 
@@ -36,11 +43,12 @@ void polar_sin_cos_degrees(double degrees, double* sine, double* cosine) {
 ScatterGeometry make_scatter_geometry_degrees(double theta_i_deg, double theta_s_deg, double phi_s_deg) {
   // Validation and the azimuth's sine and cosine as the radian path (its rounding is harmless: it
   // moves eta_r^2 by ~1e-32 at the exact specular direction).
-  const ScatterGeometry radian = make_scatter_geometry(scatter_angles_from_degrees(theta_i_deg, theta_s_deg, phi_s_deg));
+  double radian_trig[6];
+  validated_scatter_trig(scatter_angles_from_degrees(theta_i_deg, theta_s_deg, phi_s_deg), radian_trig);
   double sin_i, cos_i, sin_s, cos_s;
   polar_sin_cos_degrees(theta_i_deg, &sin_i, &cos_i);
   polar_sin_cos_degrees(theta_s_deg, &sin_s, &cos_s);
-  return scatter_geometry_from_trig(cos_i, sin_i, cos_s, sin_s, radian.cos_phi_s, radian.sin_phi_s);
+  return scatter_geometry_from_trig(cos_i, sin_i, cos_s, sin_s, radian_trig[4], radian_trig[5]);
 }
 
 ScatterGeometry scatter_geometry_from_trig(double cos_theta_i, double sin_theta_i, double cos_theta_s,
