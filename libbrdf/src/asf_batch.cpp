@@ -336,20 +336,20 @@ std::size_t KernelTableLanes(const KernelTableView& table, const double* g, cons
       // ln(z / kKernelZNear) / dw of the far section (its log only where a lane needs it); beyond
       // kKernelZFar, a near cell whose value is then replaced by 0.
       V uv = hn::Mul(z, inv_dz), fj = hn::Min(hn::Floor(uv), hn::Set(d, table.nz - 2.0)), dv = vdz;
-      V node = hn::Mul(hn::MulAdd(fi, hn::Set(d, double(table.nz)), fj), hn::Set(d, 4.0)), stride = near_stride;
+      auto far_cell = hn::FirstN(d, 0);  // none
       const auto far = hn::Gt(z, z_near);
       if (!hn::AllFalse(d, far)) {
         const auto beyond = hn::Not(hn::Le(z, z_far));  // +Inf too
         const V uw = hn::Mul(hn::Log(d, hn::Mul(hn::Min(z, z_far), hn::Set(d, 1.0 / kKernelZNear))), hn::Set(d, 1.0 / table.dw));
-        const V fk = hn::Min(hn::Floor(uw), hn::Set(d, table.nw - 2.0));
-        const auto far_cell = hn::AndNot(beyond, far);
+        far_cell = hn::AndNot(beyond, far);
         uv = hn::IfThenElse(far_cell, uw, hn::IfThenZeroElse(beyond, uv));
-        fj = hn::IfThenElse(far_cell, fk, hn::IfThenZeroElse(beyond, fj));
+        fj = hn::IfThenElse(far_cell, hn::Min(hn::Floor(uw), hn::Set(d, table.nw - 2.0)), hn::IfThenZeroElse(beyond, fj));
         dv = hn::IfThenElse(far_cell, vdw, hn::IfThenZeroElse(beyond, vdz));
-        const V far_node = hn::MulAdd(hn::MulAdd(fi, hn::Set(d, double(table.nw)), fk), hn::Set(d, 4.0), far_base);
-        node = hn::IfThenElse(far_cell, far_node, hn::Mul(hn::MulAdd(fi, hn::Set(d, double(table.nz)), fj), hn::Set(d, 4.0)));
-        stride = hn::IfThenElse(far_cell, far_stride, near_stride);
       }
+      // The cell's first node in its section, and the next row's (the sections' rows differ in length).
+      const V node = hn::IfThenElse(far_cell, hn::MulAdd(hn::MulAdd(fi, hn::Set(d, double(table.nw)), fj), hn::Set(d, 4.0), far_base),
+                                    hn::Mul(hn::MulAdd(fi, hn::Set(d, double(table.nz)), fj), hn::Set(d, 4.0)));
+      const V stride = hn::IfThenElse(far_cell, far_stride, near_stride);
       hn::Store(hn::Sub(ux, fi), d, s_chunk + k), hn::Store(hn::Sub(uv, fj), d, t_chunk + k), hn::Store(dv, d, dv_chunk + k);
       hn::Store(hn::ConvertTo(di, node), di, at.node[0] + k), hn::Store(hn::ConvertTo(di, hn::Add(node, stride)), di, at.node[1] + k);
       if (table.prefetch_rows) {
