@@ -9,19 +9,13 @@
 
 #include "libbrdf/error.h"
 #include "libbrdf/geometry.h"
+#include "quadrature.h"  // distance_to_unit_circle
 
 namespace libbrdf {
 namespace {
 
 using Rule = boost::math::quadrature::gauss_kronrod<double, 15>;
 constexpr unsigned kMaxDepth = 12;
-
-// Distance from the specular point (at distance s from the origin) to the unit circle along
-// azimuth psi measured from the outward radial direction.
-double distance_to_unit_circle(double s, double psi) {
-  const double cos_psi = std::cos(psi), sin_psi = std::sin(psi);
-  return std::max(0.0, -s * cos_psi + std::sqrt(std::max(0.0, 1.0 - s * s * sin_psi * sin_psi)));
-}
 
 // Narrowest lobe width (direction cosines) the model can have at this surface: the first radial
 // breakpoint is a quarter of it.
@@ -59,7 +53,7 @@ DirectionalAlbedo directional_albedo(const Model& model, double theta_i, const A
     return std::isfinite(value) ? value : 0.0;
   };
   auto radial = [&](double psi) {
-    const double rho_max = distance_to_unit_circle(s, psi);
+    const double rho_max = detail::distance_to_unit_circle(s, psi);
     double total = 0.0, a = 0.0, b = std::min(first_panel, rho_max), error = 0.0;  // radial estimates unused
     auto integrand = [&](double rho) { return brdf(rho, psi) * rho; };
     while (b < rho_max) {

@@ -1,5 +1,6 @@
 #include "quadrature.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -43,6 +44,11 @@ const GaussLegendreRule& gauss_legendre(int order) {
   auto& slot = cache[order];
   if (!slot) slot = std::make_unique<GaussLegendreRule>(compute_rule(order));
   return *slot;
+}
+
+double distance_to_unit_circle(double s, double psi) {
+  const double cos_psi = std::cos(psi), sin_psi = std::sin(psi);
+  return std::max(0.0, -s * cos_psi + std::sqrt(std::max(0.0, 1.0 - s * s * sin_psi * sin_psi)));
 }
 
 }  // namespace libbrdf::detail

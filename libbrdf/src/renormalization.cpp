@@ -20,13 +20,6 @@
 namespace libbrdf {
 namespace {
 
-// Distance from the specular point (0, s) to the unit circle along azimuth psi (psi = 0 points
-// to +beta, away from the normal's foot). Root of rho^2 + 2 s rho cos psi + s^2 - 1 = 0.
-double distance_to_unit_circle(double s, double psi) {
-  const double cos_psi = std::cos(psi), sin_psi = std::sin(psi);
-  return std::max(0.0, -s * cos_psi + std::sqrt(std::max(0.0, 1.0 - s * s * sin_psi * sin_psi)));
-}
-
 // Panels [a, b) covering [0, length], the first `first` wide (clamped to length), each next
 // `ratio` times as far out: geometric grading away from a feature at 0.
 template <class Panel>
@@ -44,14 +37,21 @@ void graded_panels(double length, double first, double ratio, const Panel& panel
 // 5.6e-6 to <= 3.3e-9 (both modes; plane through the outside integral). K tables cost about the
 // same (within this machine's ~20% noise), where panels growing 2x with azimuth_nodes / 2 nodes
 // each took 3-4x longer for no better accuracy.
+// Each node carries its distance from the specular point to the unit circle, which both the disk
+// and the outside integral need (computed once per K node).
 struct AzimuthNode {
   double psi, weight;
+  double rho_max;  // detail::distance_to_unit_circle(sin theta_i, psi)
 };
-std::vector<AzimuthNode> half_disk_azimuth_nodes(const RenormalizationQuadrature& quad, double cos_theta_i) {
+std::vector<AzimuthNode> half_disk_azimuth_nodes(const RenormalizationQuadrature& quad, double theta_i) {
+  const double cos_theta_i = std::cos(theta_i), sin_theta_i = std::sin(theta_i);
   std::vector<AzimuthNode> nodes;
   auto panel = [&](const detail::GaussLegendreRule& rule, double a, double b) {
     const double half = 0.5 * (b - a), mid = 0.5 * (a + b);
-    for (std::size_t k = 0; k < rule.nodes.size(); ++k) nodes.push_back({mid + half * rule.nodes[k], half * rule.weights[k]});
+    for (std::size_t k = 0; k < rule.nodes.size(); ++k) {
+      const double psi = mid + half * rule.nodes[k];
+      nodes.push_back({psi, half * rule.weights[k], detail::distance_to_unit_circle(sin_theta_i, psi)});
+    }
   };
   const double mid = 0.5 * kPi;
   if (!(cos_theta_i < 0.25)) {
@@ -72,7 +72,8 @@ std::vector<AzimuthNode> half_disk_azimuth_nodes(const RenormalizationQuadrature
 // specular point, where eta_r = rho exactly (eq. 10), so the Gaussian lobes are radial. The radial
 // range is cut into panels growing geometrically from a quarter of the narrowest lobe width
 // (m = 1: 1/(pi l_c/lambda)), so lobes from l_c/lambda ~ 1e3 to rough surfaces are resolved.
-double disk_integral(const Surface& surface, double theta_i, const RenormalizationQuadrature& quad) {
+double disk_integral(const Surface& surface, double theta_i, const std::vector<AzimuthNode>& azimuths,
+                     const RenormalizationQuadrature& quad) {
   const double s = std::sin(theta_i), ci = std::cos(theta_i);
   const double lc_over_lambda = surface.lc_over_lambda();
   const double prefactor = kPi * lc_over_lambda * lc_over_lambda;
@@ -96,8 +97,8 @@ double disk_integral(const Surface& surface, double theta_i, const Renormalizati
   // 0.01, 40).
   thread_local std::vector<double> g, c, weight, value;
   g.clear(), c.clear(), weight.clear();
-  for (const AzimuthNode& azimuth : half_disk_azimuth_nodes(quad, ci)) {
-    const double rho_max = distance_to_unit_circle(s, azimuth.psi);
+  for (const AzimuthNode& azimuth : azimuths) {
+    const double rho_max = azimuth.rho_max;
     const double cos_psi = std::cos(azimuth.psi);
     // The line's points: rho in c, rho's weight (Gauss-Legendre weight x panel half-width, x 2u
     // below) in weight; then g, c and the weight with its Jacobian rho in one loop over them.
@@ -153,19 +154,15 @@ double disk_integral(const Surface& surface, double theta_i, const Renormalizati
 // closed form radially: each term is a Poisson weight P(m; g1) times a unit-mass Gaussian of
 // rho with 1/(2 variance) = pi^2 (l_c/lambda)^2 / m, whose mass beyond rho_max(psi) is
 // exp(-a_m rho_max^2). No cancellation against the disk integral.
-double outside_integral(const Surface& surface, double theta_i, const RenormalizationQuadrature& quad) {
-  const double ci = std::cos(theta_i), s = std::sin(theta_i);
+double outside_integral(const Surface& surface, double theta_i, const std::vector<AzimuthNode>& azimuths) {
+  const double ci = std::cos(theta_i);
   const double g1 = roughness_g(surface.sigma_over_lambda(), ci, 0.0);
   if (!(g1 > 0.0)) return 0.0;
   const double lc_over_lambda = surface.lc_over_lambda();
   const double a1 = kPi * kPi * lc_over_lambda * lc_over_lambda;
   // a1 rho_max(psi)^2 at the azimuth nodes, once for every term m.
-  std::vector<AzimuthNode> azimuths = half_disk_azimuth_nodes(quad, ci);
   std::vector<double> a1_r2(azimuths.size());
-  for (std::size_t k = 0; k < azimuths.size(); ++k) {
-    const double r = distance_to_unit_circle(s, azimuths[k].psi);
-    a1_r2[k] = a1 * r * r;
-  }
+  for (std::size_t k = 0; k < azimuths.size(); ++k) a1_r2[k] = a1 * azimuths[k].rho_max * azimuths[k].rho_max;
   auto outside_fraction = [&](double m) {
     double sum = 0.0;
     for (std::size_t k = 0; k < azimuths.size(); ++k) sum += azimuths[k].weight * std::exp(-a1_r2[k] / m);
@@ -224,10 +221,11 @@ RenormalizationParts renormalization_direct(const Surface& true_surface, double 
   const Surface surface = k_surface(true_surface);
   // disk and outside scale like g ~ sigma_s^2 where k_surface changed sigma_s.
   const double ratio = true_surface.sigma_s_um / surface.sigma_s_um, scale = ratio * ratio;
-  parts.disk = disk_integral(surface, theta_i, quadrature);
+  const std::vector<AzimuthNode> azimuths = half_disk_azimuth_nodes(quadrature, theta_i);
+  parts.disk = disk_integral(surface, theta_i, azimuths, quadrature);
   if (!(parts.disk > 0.0)) return parts;  // nothing scattered into the disk at all: K = 1
   if (mode == KMode::plane) {
-    const double outside = outside_integral(surface, theta_i, quadrature);
+    const double outside = outside_integral(surface, theta_i, azimuths);
     parts.k = 1.0 + outside / parts.disk;  // eq. 13 with the plane read of conventions.md
     parts.outside = outside * scale;
   } else {
