@@ -273,7 +273,6 @@ void RenormalizationSpan(const KTableView& table, const ScatterGeometry* geos, s
   const hn::ScalableTag<double> d;
   const hn::RebindToSigned<decltype(d)> di;
   using V = hn::Vec<decltype(d)>;
-  constexpr std::size_t n = hn::MaxLanes(d);  // <= 8 (TransposeSquare): a row reads <= 4 past the cell
   const auto offsets = GeoOffsets(d);
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0), two = hn::Set(d, 2.0), three = hn::Set(d, 3.0);
   const V last_cell = hn::Set(d, double(table.nodes - 2)), scale = hn::Set(d, table.scale);
@@ -284,18 +283,12 @@ void RenormalizationSpan(const KTableView& table, const ScatterGeometry* geos, s
     const V x = hn::Mul(hn::Sub(one, hn::Sqrt(ci)), scale);
     const V cell = hn::Min(hn::Floor(x), last_cell);
     const V t = hn::Sub(x, cell), t2 = hn::Mul(t, t), t3 = hn::Mul(t2, t);
-    // (q, q') of nodes j and j + 1 are the 4 doubles from 2 j on: each lane's row loaded and the
-    // rows transposed (as the kernel table's lookups), not 4 gathers. A row of 8 doubles (512-bit
-    // vectors) reads past the cell, into the next nodes or the grid's zero padding.
+    // (q, q') of nodes j and j + 1 are the 4 doubles from 2 j on: each lane's 4 loaded and
+    // transposed into columns (LoadColumns, as the kernel table's lookups), not 4 gathers.
     alignas(64) hn::TFromD<decltype(di)> at[hn::MaxLanes(d)];
     hn::Store(hn::ShiftLeft<1>(hn::ConvertTo(di, cell)), di, at);
     V values[4];
-    for (std::size_t e0 = 0; e0 < 4; e0 += n) {
-      V rows[hn::MaxLanes(d)];
-      for (std::size_t q = 0; q < n; ++q) rows[q] = hn::LoadU(d, table.dense + at[q] + e0);
-      TransposeSquare(d, rows);
-      for (std::size_t e = 0; e < n && e0 + e < 4; ++e) values[e0 + e] = rows[e];
-    }
+    LoadColumns<4>(d, [&](std::size_t q) { return table.dense + at[q]; }, values);
     auto value = [&](int e) { return values[e]; };
     // Cubic Hermite basis (as renormalization.cpp's hermite_cell).
     const V h00 = hn::Add(hn::Sub(hn::Mul(two, t3), hn::Mul(three, t2)), one);

@@ -384,12 +384,7 @@ std::size_t KernelTableLanes(const KernelTableView& table, const double* g, cons
       for (int a = 0; a < 2; ++a) {
         // Row a of each cell, nodes (i + a, j) and (i + a, j + 1): col[4b + l] = element l of node b.
         V col[8];
-        for (std::size_t e0 = 0; e0 < 8; e0 += n) {
-          V v[n];
-          for (std::size_t q = 0; q < n; ++q) v[q] = hn::LoadU(d, nodes + at.node[a][k + q] + e0);
-          TransposeSquare(d, v);
-          std::copy(v, v + n, col + e0);
-        }
+        LoadColumns<8>(d, [&](std::size_t q) { return nodes + at.node[a][k + q]; }, col);
         for (int b = 0; b < 2; ++b) {
           const V* node = col + 4 * b;  // F, F_x, F_z, F_xz
           f = hn::MulAdd(hx[a], hn::MulAdd(hz[b], node[0], hn::Mul(gz[b], node[2])), f);
