@@ -59,10 +59,10 @@ HWY_INLINE V ExpReduced(D d, V x, V* shifted) {
   return hn::MulAdd(r8, hn::MulAdd(r2, pab, p89), low);
 }
 
-// 2^(k + bias - 1023) for the k in `shifted`'s low bits, as a double (exponent field only).
+// 2^(e - 1023) for a biased exponent e in [1, 2046], as a double (the exponent field alone).
 template <class D, class V = hn::Vec<D>>
-HWY_INLINE V Pow2(D d, hn::Vec<hn::RebindToSigned<D>> k_biased) {
-  return hn::BitCast(d, hn::ShiftLeft<52>(k_biased));
+HWY_INLINE V Pow2(D d, hn::Vec<hn::RebindToSigned<D>> biased_exponent) {
+  return hn::BitCast(d, hn::ShiftLeft<52>(biased_exponent));
 }
 
 // e^x to ~1e-14 relative for x <= 709 (x < -708 gives ~e^-708, not 0). Fewer operations than

@@ -1,7 +1,8 @@
 // Internal, per SIMD target (Google Highway's -inl.h pattern: re-included once per target by
-// foreach_target.h): the square transposition of MaxLanes(d) vectors, shared by the kernel table's
-// lookups (asf_batch.cpp: each lane's cell row into columns) and the geometry spans
-// (angular_simd.cpp: fields into records), and the table lookups' column loads (LoadColumns).
+// foreach_target.h): the square transposition of MaxLanes(d) vectors (TransposeSquare: the geometry
+// spans' fields into records and back, angular_simd.cpp) and the table lookups' column loads
+// (LoadColumns: each lane's cell row into columns, for the kernel table in asf_batch.cpp and K in
+// angular_simd.cpp).
 #if defined(LIBBRDF_SIMD_TRANSPOSE_INL_H_) == defined(HWY_TARGET_TOGGLE)
 #ifdef LIBBRDF_SIMD_TRANSPOSE_INL_H_
 #undef LIBBRDF_SIMD_TRANSPOSE_INL_H_
@@ -77,8 +78,8 @@ HWY_INLINE void LoadColumns(D d, const RowPointer& row, hn::Vec<D>* col) {
       // w[q]: columns cb .. cb + 3 of row q (lower half) and of row q + 4 (upper half).
       V w[4];
       for (std::size_t q = 0; q < 4; ++q) w[q] = hn::Combine(d, hn::LoadU(dh, row(q + 4) + cb), hn::LoadU(dh, row(q) + cb));
-      // Per 128-bit block: columns cb, cb + 2 (lower) and cb + 1, cb + 3 (upper) of rows pairs
-      // (0, 1), (4, 5) and (2, 3), (6, 7); then blocks from both pairs alternate.
+      // Per 128-bit block, the pairs of rows (0, 1) and (4, 5), or (2, 3) and (6, 7), side by side:
+      // columns cb and cb + 2 (lower*), cb + 1 and cb + 3 (upper*); then blocks of both alternate.
       const V lower01 = hn::InterleaveLower(d, w[0], w[1]), upper01 = hn::InterleaveUpper(d, w[0], w[1]);
       const V lower23 = hn::InterleaveLower(d, w[2], w[3]), upper23 = hn::InterleaveUpper(d, w[2], w[3]);
       col[cb + 0] = hn::OddEvenBlocks(hn::SwapAdjacentBlocks(lower23), lower01);
