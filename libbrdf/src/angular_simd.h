@@ -30,7 +30,8 @@ void stover_q_bar_span(double eps_re, double eps_im, const ScatterGeometry* geos
 void fresnel_d_span(double eps_re, double eps_im, const ScatterGeometry* geos, std::size_t count, double* out);
 
 // The dense grid of RenormalizationTable (renormalization.h): (q, dq per node index) interleaved
-// per node, uniform in u = 1 - sqrt(cos theta_i), then 4 doubles of padding; K = base + cos^2 ti max(0, q).
+// per node, uniform in u = 1 - sqrt(cos theta_i); K = base + cos^2 ti max(0, q). A lookup reads
+// the 4 doubles of its cell's two nodes (LoadColumns), never past the grid.
 struct KTableView {
   const double* dense;
   int nodes;

@@ -339,9 +339,7 @@ RenormalizationTable::RenormalizationTable(const Surface& true_surface, KMode mo
   for (int j = 0; j < dense_nodes; ++j) dense_q[j] = q_from_smooth_factors(j / dense_scale_);
   const std::vector<double> dense_slope = hermite_slopes(dense_q);
   dense_nodes_ = dense_nodes;
-  // Zeros after the last node: a lookup's vector load of a cell's row (renormalization_span, up to
-  // 8 doubles from the cell's 4) never reads past the grid.
-  dense_.assign(2 * static_cast<std::size_t>(dense_nodes) + kDensePadding, 0.0);
+  dense_.assign(2 * static_cast<std::size_t>(dense_nodes), 0.0);
   for (int j = 0; j < dense_nodes; ++j) dense_[2 * j] = dense_q[j], dense_[2 * j + 1] = dense_slope[j];
   for (int i = 0; i < nodes; ++i) k_[i] = (*this)(angles_[i]);
 }

@@ -103,10 +103,9 @@ class RenormalizationTable {
   // vanishes like cos^2 ti (g1 = g(ti, 0) and g(ti, ti) do); K = b + cos^2 ti q keeps that
   // steep factor exact and costs one cubic per query (no exp or division). Interleaved (q, dq per
   // dense node index).
-  std::vector<double> dense_;  // 2 dense_nodes_ values, then kDensePadding zeros
+  std::vector<double> dense_;  // 2 dense_nodes_ values
   int dense_nodes_ = 0;
   double dense_scale_ = 1.0;  // dense node index per unit of u
-  static constexpr std::size_t kDensePadding = 4;
 
   double q_from_smooth_factors(double u) const;
 };
