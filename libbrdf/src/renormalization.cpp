@@ -341,6 +341,16 @@ RenormalizationTable::RenormalizationTable(const Surface& true_surface, KMode mo
   dense_nodes_ = dense_nodes;
   dense_.assign(2 * static_cast<std::size_t>(dense_nodes), 0.0);
   for (int j = 0; j < dense_nodes; ++j) dense_[2 * j] = dense_q[j], dense_[2 * j + 1] = dense_slope[j];
+  // Plane mode reads K = 1 + cos^2 ti q: a q or slope below kNegligibleQ changes no bit of K, and
+  // such values (down to subnormals where the outside fraction underflows: l_c/lambda = 40 has
+  // K = 1 exactly up to ~45 deg) make the lookups' arithmetic take microcode assists. They are
+  // stored as 0. K span lookups, 256-query blocks, one CPU: 10.8 -> 4.2 ns per query at sigma_s =
+  // 0.005 um, l_c = 20 um, lambda = 0.5 um (5.3 -> 4.2 at l_c/lambda = 500), as fast as at l_c = 2
+  // um; mbk there 27.3 -> 19.9 ns (`brdf eval --timing` minus g, same run). K bit-identical (8
+  // surfaces, direct and table, both modes); mbk md5-identical.
+  if (mode_ == KMode::plane)
+    for (double& value : dense_)
+      if (std::abs(value) < kNegligibleQ) value = 0.0;
   for (int i = 0; i < nodes; ++i) k_[i] = (*this)(angles_[i]);
 }
 

@@ -103,7 +103,8 @@ class RenormalizationTable {
   // vanishes like cos^2 ti (g1 = g(ti, 0) and g(ti, ti) do); K = b + cos^2 ti q keeps that
   // steep factor exact and costs one cubic per query (no exp or division). Interleaved (q, dq per
   // dense node index).
-  std::vector<double> dense_;  // 2 dense_nodes_ values
+  std::vector<double> dense_;  // 2 dense_nodes_ values (in plane mode, those below kNegligibleQ stored as 0)
+  static constexpr double kNegligibleQ = 1e-200;
   int dense_nodes_ = 0;
   double dense_scale_ = 1.0;  // dense node index per unit of u
 
