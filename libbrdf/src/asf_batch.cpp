@@ -319,7 +319,14 @@ std::size_t KernelTableLanes(const KernelTableView& table, const double* g, cons
   static_assert(kTableChunk % n == 0, "whole vectors per chunk");
   const V one = hn::Set(d, 1.0), two = hn::Set(d, 2.0), three = hn::Set(d, 3.0);
   const V vdx = hn::Set(d, table.dx), vdz = hn::Set(d, table.dz), vdw = hn::Set(d, table.dw);
-  const V inv_dx = hn::Set(d, 1.0 / table.dx), inv_dz = hn::Set(d, 1.0 / table.dz), vscale = hn::Set(d, scale);
+  const V inv_dx = hn::Set(d, 1.0 / table.dx), inv_dz = hn::Set(d, 1.0 / table.dz);
+  // scale e^F as e^(F + ln scale) (KernelTable::scaled_sigma): where e^F alone is subnormal (F <
+  // -708) but scale e^F is not, no subnormal number is computed, and the value keeps its precision.
+  // Arithmetic on subnormals takes microcode assists: asf minus g at sigma_s = 0.005 um, l_c =
+  // 20 um, lambda = 0.5 um, whose far lobe lies there, 12.0 -> 11.4 ns (1e-4: 11.1 -> 10.2;
+  // `brdf eval --timing`, same run); the surfaces unchanged. The sum's rounding, <= |F|
+  // eps ~ 1e-13 relative, is below F's own.
+  const V ln_scale = hn::Set(d, std::log(scale));
   const V g_min = hn::Set(d, kKernelGMin), g_max = hn::Set(d, kKernelGMax);
   const V z_near = hn::Set(d, kKernelZNear), z_far = hn::Set(d, kKernelZFar);
   std::size_t outside_count = 0;
@@ -422,7 +429,7 @@ std::size_t KernelTableLanes(const KernelTableView& table, const double* g, cons
           f = hn::MulAdd(gx[a], hn::MulAdd(hz[b], node[1], hn::Mul(gz[b], node[3])), f);
         }
       }
-      const V value = hn::IfThenZeroElse(hn::Eq(dv, hn::Zero(d)), hn::Mul(ExpFullRange(d, f), vscale));
+      const V value = hn::IfThenZeroElse(hn::Eq(dv, hn::Zero(d)), ExpFullRange(d, hn::Add(f, ln_scale)));
       if (m == n) {
         hn::StoreU(value, d, sigma + k0 + k);
       } else {

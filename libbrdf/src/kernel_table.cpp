@@ -125,7 +125,9 @@ KernelTable::KernelTable(Tier tier) : tier_(tier), spec_(spec_of(tier)) {
   build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-double KernelTable::sigma(double g, double c) const {
+double KernelTable::sigma(double g, double c) const { return scaled_sigma(g, c, 1.0); }
+
+double KernelTable::scaled_sigma(double g, double c, double scale) const {
   const double z = std::sqrt(c / (g + 1.0));
   if (z > kKernelZFar) return 0.0;  // Sigma < e^-745 there (kernel_table.h)
   const bool far = z > kKernelZNear;
@@ -153,7 +155,7 @@ double KernelTable::sigma(double g, double c) const {
       f += hx[a] * (hz[b] * n[0] + gz[b] * n[2]) + gx[a] * (hz[b] * n[1] + gz[b] * n[3]);
     }
   }
-  return std::exp(f);
+  return std::exp(f + std::log(scale));  // scale 1: exactly e^F
 }
 
 std::size_t KernelTable::scaled_sigma_inside(const double* g, const double* c, std::size_t count, double scale, double* out,

@@ -282,15 +282,14 @@ double asf_auto(const AsfArguments& args, double tolerance, AsfRegime* regime, c
   SeriesOptions series = options;
   series.relative_tolerance = detail::auto_series_truncation(tolerance, options.relative_tolerance);
   const AsfRegime chosen = asf_regime(args, tolerance, options.allow_kernel_table);
-  double sum;
-  switch (chosen) {
-    case AsfRegime::polished: sum = mbk_series_polished(args.g, args.c); break;
-    case AsfRegime::rough: sum = mbk_series_rough(args.g, args.c); break;
-    case AsfRegime::table: sum = KernelTable::for_tolerance(tolerance)->sigma(args.g, args.c); break;  // the coarsest certified
-    default: sum = mbk_series_sum(args.g, args.c, series); break;
-  }
   if (regime) *regime = chosen;
-  return args.prefactor * sum;
+  switch (chosen) {
+    case AsfRegime::polished: return args.prefactor * mbk_series_polished(args.g, args.c);
+    case AsfRegime::rough: return args.prefactor * mbk_series_rough(args.g, args.c);
+    // The coarsest certified table, the prefactor inside its exp (as the lanes: no subnormal Sigma).
+    case AsfRegime::table: return KernelTable::for_tolerance(tolerance)->scaled_sigma(args.g, args.c, args.prefactor);
+    default: return args.prefactor * mbk_series_sum(args.g, args.c, series);
+  }
 }
 
 AsfRegime asf_regime(const AsfArguments& args, double tolerance, bool allow_table) {
