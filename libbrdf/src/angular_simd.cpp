@@ -254,10 +254,9 @@ void StoverQBarSpan(double eps_re, double eps_im, const ScatterGeometry* geos, s
 void FresnelDSpan(double eps_re, double eps_im, const ScatterGeometry* geos, std::size_t count, double* out) {
   const hn::ScalableTag<double> d;
   using V = hn::Vec<decltype(d)>;
-  const auto offsets = GeoOffsets(d);
   const V er = hn::Set(d, eps_re), ei = hn::Set(d, eps_im), one = hn::Set(d, 1.0);
   ForEachBlock(d, geos, count, out, [&](const ScatterGeometry* g) {
-    const V c = Field(d, g, kCosD, offsets);
+    const V c = Field(d, g, kCosD);
     const V sin2 = hn::Max(hn::Zero(d), hn::NegMulAdd(c, c, one));
     V wr, wi;
     ComplexSqrt(d, hn::Sub(er, sin2), ei, &wr, &wi);
@@ -273,12 +272,11 @@ void RenormalizationSpan(const KTableView& table, const ScatterGeometry* geos, s
   const hn::ScalableTag<double> d;
   const hn::RebindToSigned<decltype(d)> di;
   using V = hn::Vec<decltype(d)>;
-  const auto offsets = GeoOffsets(d);
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0), two = hn::Set(d, 2.0), three = hn::Set(d, 3.0);
   const V last_cell = hn::Set(d, double(table.nodes - 2)), scale = hn::Set(d, table.scale);
   const V base = hn::Set(d, table.base);
   ForEachBlock(d, geos, count, out, [&](const ScatterGeometry* g) {
-    const V ci = hn::Min(one, hn::Max(zero, Field(d, g, kCosI, offsets)));
+    const V ci = hn::Min(one, hn::Max(zero, Field(d, g, kCosI)));
     // The node coordinate u = 1 - sqrt(cos theta_i) of renormalization.cpp, in node units.
     const V x = hn::Mul(hn::Sub(one, hn::Sqrt(ci)), scale);
     const V cell = hn::Min(hn::Floor(x), last_cell);
