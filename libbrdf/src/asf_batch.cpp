@@ -39,13 +39,16 @@ constexpr int kMaxLaneTerms = 4096;      // a lane still walking after this many
 // mode), and the vector is walked again lane by lane, or rejected.
 constexpr double kMaxLogRatio = 700.0;
 
+// 1.5 * 2^52: x + this rounds x to an integer held in the low bits of the sum's mantissa.
+constexpr double kRoundingShifter = 6755399441055744.0;
+
 // e^x = poly(r) 2^k, k = round(x / ln 2), r = x - k ln 2: the range reduction of hn::Exp and the
 // degree-11 Taylor polynomial on |r| <= ln 2 / 2 (error 9e-15), with 2^k by exponent-field
 // arithmetic (no conversion instructions). Returns poly; *shifted holds k + 1.5 * 2^52, whose low
 // bits are k. Valid for |x| <= 1000 (k ln2_hi exact).
 template <class D, class V = hn::Vec<D>>
 HWY_INLINE V ExpReduced(D d, V x, V* shifted) {
-  const V shifter = hn::Set(d, 6755399441055744.0);  // 1.5 * 2^52: rounds to an integer in the low bits
+  const V shifter = hn::Set(d, kRoundingShifter);
   *shifted = hn::MulAdd(x, hn::Set(d, 1.4426950408889634074), shifter);
   const V k = hn::Sub(*shifted, shifter);
   // ln 2 in two parts (fdlibm's): k ln2_hi is exact for |k| < 2^20.
@@ -88,7 +91,7 @@ HWY_INLINE V ExpFullRange(D d, V x) {
   const hn::RebindToSigned<D> di;
   V shifted;
   const V poly = ExpReduced(d, hn::Min(hn::Max(x, hn::Set(d, -1000.0)), hn::Set(d, 709.0)), &shifted);
-  const auto k = hn::Sub(hn::BitCast(di, shifted), hn::BitCast(di, hn::Set(d, 6755399441055744.0)));
+  const auto k = hn::Sub(hn::BitCast(di, shifted), hn::BitCast(di, hn::Set(d, kRoundingShifter)));
   const auto half = hn::ShiftRight<1>(k);  // arithmetic: floor(k / 2)
   const auto bias = hn::Set(di, 1023);
   return hn::Mul(hn::Mul(poly, Pow2(d, hn::Add(hn::Sub(k, half), bias))), Pow2(d, hn::Add(half, bias)));
@@ -404,7 +407,6 @@ std::size_t KernelTableLanes(const KernelTableView& table, const double* g, cons
     const double* const s_chunk = at.s;
     const double* const t_chunk = at.t;
     const double* const dv_chunk = at.dv;
-
     const std::size_t chunk = std::min(kTableChunk, count - k0);
     for (std::size_t k = 0; k < chunk; k += n) {
       const std::size_t m = std::min(n, chunk - k);

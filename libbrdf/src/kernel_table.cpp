@@ -125,11 +125,15 @@ KernelTable::KernelTable(Tier tier) : tier_(tier), spec_(spec_of(tier)) {
   build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-double KernelTable::sigma(double g, double c) const { return scaled_sigma(g, c, 1.0); }
+double KernelTable::sigma(double g, double c) const { return std::exp(log_sigma(g, c)); }
 
 double KernelTable::scaled_sigma(double g, double c, double scale) const {
+  return std::exp(log_sigma(g, c) + std::log(scale));
+}
+
+double KernelTable::log_sigma(double g, double c) const {
   const double z = std::sqrt(c / (g + 1.0));
-  if (z > kKernelZFar) return 0.0;  // Sigma < e^-745 there (kernel_table.h)
+  if (z > kKernelZFar) return -std::numeric_limits<double>::infinity();  // Sigma < e^-745 there (kernel_table.h)
   const bool far = z > kKernelZNear;
   const double u_x = (std::log(g) - x_min_) / dx_;
   // The cell's column j in its section and the offset t in it: near in z, far in w = ln(z / kKernelZNear).
@@ -155,7 +159,7 @@ double KernelTable::scaled_sigma(double g, double c, double scale) const {
       f += hx[a] * (hz[b] * n[0] + gz[b] * n[2]) + gx[a] * (hz[b] * n[1] + gz[b] * n[3]);
     }
   }
-  return std::exp(f + std::log(scale));  // scale 1: exactly e^F
+  return f;
 }
 
 std::size_t KernelTable::scaled_sigma_inside(const double* g, const double* c, std::size_t count, double scale, double* out,

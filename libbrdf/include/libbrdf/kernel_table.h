@@ -93,7 +93,7 @@ class KernelTable {
   // where Sigma alone is subnormal (ln Sigma < -708) but scale Sigma is not, it keeps full
   // precision, where sigma() times scale would keep only the subnormal's bits (a relative error of
   // 2.2e-6 seen at Sigma ~ 1e-313). The sum's rounding, <= |ln Sigma| eps ~ 1e-13 relative, is
-  // below the interpolation's own rounding. sigma(g, c) = scaled_sigma(g, c, 1) bit for bit.
+  // below the interpolation's own rounding.
   double scaled_sigma(double g, double c, double scale) const;
   // sigma[k] = sigma(g[k], c[k]) for k < count, one query per SIMD lane (cell rows loaded per lane
   // and transposed); the same interpolation up to rounding. NaN where not contains(g[k], c[k]).
@@ -130,6 +130,9 @@ class KernelTable {
 
  private:
   explicit KernelTable(Tier tier);
+  // ln Sigma(g, c), the bicubic Hermite interpolation that sigma and scaled_sigma exponentiate
+  // (-inf beyond kKernelZFar); only for contains(g, c).
+  double log_sigma(double g, double c) const;
   Tier tier_;
   KernelTableSpec spec_;
   int nx_ = 0, nz_ = 0, nw_ = 0;
