@@ -12,7 +12,7 @@ user would precompute eq. 13's integral; within 2.0e-6 of the direct K, measured
 The CLI is timed on a query file; its CSV parsing and printing are cancelled out by subtracting
 the CPU time of `--model g` (eq. 12, no series) on the same file. Each timing is the best CPU time of
 --repeat runs (numpy runs on one thread: OPENBLAS/OMP threads play no part in elementwise numpy), and
-the CLI runs are interleaved (g, then every model and tolerance, --repeat times) so that a change of
+the runs are interleaved (numpy, g, then every model and tolerance, --repeat times) so that a change of
 load on the machine hits the I/O run and the model runs alike. Everything runs on one CPU (unless
 --all-cpus): one thread per evaluation, as numpy.
 
@@ -25,7 +25,10 @@ Prints a CSV: surface,model,tolerance,method,numpy_ns,io_ns (the `--model g` run
 cancelled), cli_spread_ns (max - min of that difference over the repeats: how far to trust cli_ns),
 speedup (numpy / cli), cli_inproc_ns (the same difference from `brdf eval --timing`: the CPU time of the
 batch call itself, best of the repeats, asf or mbk minus g: no CSV I/O to cancel, so ~1 ns precise where
-cli_ns is only to within its spread), speedup_inproc (numpy / cli_inproc), max_rel_err (CLI asf against a converged reference series, the first 20000
+cli_ns is only to within its spread), speedup_inproc (numpy / cli_inproc), speedup_inproc_paired (the
+median over the rounds of that ratio within one round: numpy is timed in each round beside the brdf runs,
+so that a machine whose speed drifts between phases -- other tenants, as on the two-core VMs this ran
+on -- cannot pair a fast phase of one side with a slow phase of the other), max_rel_err (CLI asf against a converged reference series, the first 20000
 points; mbk against brdf's own K and Qbar times that series), numpy_max_rel_err (the timed numpy script against the same reference), and, when the Python module imports
 (PYTHONPATH=build/python), the same batch API without CSV I/O: module_cpu_ns (all threads),
 module_wall_ns, module_speedup_cpu (numpy CPU / module CPU). All the columns above compare mbk with the
@@ -40,7 +43,7 @@ digits, whose cost grew with the value's exponent), and the spread of the cancel
 30-200 ns at 1e6 points on a loaded two-core machine: trust cli_ns to about its cli_spread_ns
 (a difference at or below 0, inside that noise, prints as nan with no ratio).
 """
-import argparse, math, os, re, resource, subprocess, sys, tempfile, time
+import argparse, math, os, re, resource, statistics, subprocess, sys, tempfile, time
 import numpy as np
 
 INDEX = dict(n=1.5, k=1.0)  # mbk's complex index (the ASF alone needs none)
@@ -173,7 +176,7 @@ def main():
         import libbrdf
     except ImportError:
         libbrdf = None
-    print("surface,model,tolerance,method,numpy_ns,io_ns,cli_ns,cli_spread_ns,speedup,cli_inproc_ns,speedup_inproc,max_rel_err,numpy_max_rel_err,module_cpu_ns,module_wall_ns,module_speedup_cpu,"
+    print("surface,model,tolerance,method,numpy_ns,io_ns,cli_ns,cli_spread_ns,speedup,cli_inproc_ns,speedup_inproc,speedup_inproc_paired,max_rel_err,numpy_max_rel_err,module_cpu_ns,module_wall_ns,module_speedup_cpu,"
           "numpy_mbk_ns,speedup_vs_numpy_mbk,speedup_inproc_vs_numpy_mbk,numpy_mbk_max_rel_err,numpy_k_interp_max_rel_err,"
           "numpy_qbar_max_rel_err,module_speedup_cpu_vs_numpy_mbk")
     with tempfile.TemporaryDirectory() as tmp:
@@ -189,7 +192,7 @@ def main():
         configs += [(m, "1e-6", "series") for m in a.models if "series" in a.methods]
         for name, s in surfaces.items():
             surface = ["--sigma-s", str(s["sigma_s"]), "--lc", str(s["lc"]), "--wavelength", str(s["wavelength"])]
-            best_np, ref = best_cpu(lambda: numpy_asf(ti, ts, ps, **s), a.repeat)
+            ref = numpy_asf(ti, ts, ps, **s)  # its values (timed below, in the rounds)
             exact = reference_asf(ti[check], ts[check], ps[check], **s)
             keep = exact > 1e-300
             # mbk = K Qbar A (eq. 11 x Qbar): its reference multiplies the converged A by brdf's own K and
@@ -212,7 +215,9 @@ def main():
                 extra = INDEX_ARGS if model != "asf" else []
                 return ["--model", model, *surface, *extra, "--tolerance", tol, "--asf-method", method]
             io_runs, io_inproc, runs, inproc, outputs = [], [], {c: [] for c in configs}, {c: [] for c in configs}, {}
-            for r in range(a.repeat):  # interleaved: the I/O run, then every configuration
+            numpy_runs = []
+            for r in range(a.repeat):  # interleaved: numpy, the I/O run, then every configuration
+                numpy_runs.append(best_cpu(lambda: numpy_asf(ti, ts, ps, **s), 1)[0])
                 t, _, t_in = time_cli(a.brdf, ["--model", "g", *surface], path)
                 io_runs.append(t)
                 io_inproc.append(t_in)
@@ -222,7 +227,7 @@ def main():
                     inproc[config].append(t_in)
                     if r == 0:
                         outputs[config] = out
-            io = min(io_runs)
+            io, best_np = min(io_runs), min(numpy_runs)
             for model, tol, method in configs:
                 config = (model, tol, method)
                 vals = csv_values(outputs[config])[check]
@@ -236,6 +241,11 @@ def main():
                 spread = (max(differences) - min(differences)) / a.points * 1e9
                 per_inproc = (min(inproc[config]) - min(io_inproc)) / a.points * 1e9
                 per_inproc = per_inproc if per_inproc > 0 else math.nan
+                # The same ratio round by round (numpy and brdf timed within one round), its median: on a
+                # machine whose speed drifts between phases (other tenants), a best-of-rounds ratio can pair
+                # a fast phase of one side with a slow phase of the other; paired rounds cannot.
+                paired = [n / (b - i) for n, b, i in zip(numpy_runs, inproc[config], io_inproc) if b > i]
+                per_paired = statistics.median(paired) if paired else math.nan
                 module, module_vs_mbk = ",,", ""
                 if libbrdf is not None and method == "auto":  # the module has no asf-method keyword
                     kwargs = dict(sigma_s=s["sigma_s"], lc=s["lc"], wavelength=s["wavelength"], tolerance=float(tol))
@@ -256,7 +266,7 @@ def main():
                 if model == "mbk":
                     vs_mbk = f"{per_np_mbk:.1f},{per_np_mbk / per_cli:.2f},{per_np_mbk / per_inproc:.2f},{numpy_mbk_columns}"
                 print(f"{name},{model},{tol},{method},{per_np:.1f},{per_io:.1f},{per_cli:.1f},{spread:.1f},{per_np / per_cli:.2f},"
-                      f"{per_inproc:.1f},{per_np / per_inproc:.2f},{diff:.2e},"
+                      f"{per_inproc:.1f},{per_np / per_inproc:.2f},{per_paired:.2f},{diff:.2e},"
                       f"{numpy_error:.2e},{module},{vs_mbk},{module_vs_mbk}")
                 sys.stdout.flush()
 
