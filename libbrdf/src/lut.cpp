@@ -147,48 +147,16 @@ inline double linear_1d(const std::vector<float>& table, double theta_i) {
 
 // Per-table constants of the trilinear layouts (rusinkiewicz, merl), hoisted out of the per-query loop.
 namespace {
-struct TrilinearTable {
-  const float* values;
-  std::size_t nodes, n12;  // nodes per channel; stride of the theta_h axis
-  int n0, n1, n2;          // nodes per axis (n2: the phi_d axis, stride 1)
-  double scale0, scale1, scale2;  // angle -> index position (theta_h: of its square root)
-
-  explicit TrilinearTable(const Lut& lut) {
-    const std::array<double, 3> span = detail::lut_axis_spans(lut.layout, lut.shape);
-    values = lut.values.data();
-    nodes = lut.nodes_per_channel();
-    n0 = lut.shape[0], n1 = lut.shape[1], n2 = lut.shape[2];
-    n12 = static_cast<std::size_t>(n1) * n2;
-    scale0 = span[0], scale1 = span[1] / (0.5 * kPi), scale2 = span[2] / kPi;
-  }
-
-  // Corner offset and fractions of one query.
-  std::size_t locate(const detail::TableAngles& a, double& t0, double& t1, double& t2) const {
-    const double f0 = a.theta_h * (2.0 / kPi);
-    int i0, i1, i2;
-    split_index(std::sqrt(f0) * scale0, n0, i0, t0);  // square map (lut.h)
-    split_index(a.theta_d * scale1, n1, i1, t1);
-    split_index(a.phi_d * scale2, n2, i2, t2);
-    return i0 * n12 + static_cast<std::size_t>(i1) * n2 + i2;
-  }
-
-  void prefetch(int channel, std::size_t corner) const {
-    const float* c00 = values + static_cast<std::size_t>(channel) * nodes + corner;
-    __builtin_prefetch(c00);
-    __builtin_prefetch(c00 + n2);
-    __builtin_prefetch(c00 + n12);
-    __builtin_prefetch(c00 + n12 + n2);
-  }
-
-  double interpolate(int channel, std::size_t corner, double t0, double t1, double t2) const {
-    const float* c00 = values + static_cast<std::size_t>(channel) * nodes + corner;
-    const float* c01 = c00 + n2;
-    const float* c10 = c00 + n12;
-    const float* c11 = c10 + n2;
-    auto lerp2 = [t2](const float* p) { return lerp(p[0], p[1], t2); };
-    return (1.0 - t0) * ((1.0 - t1) * lerp2(c00) + t1 * lerp2(c01)) + t0 * ((1.0 - t1) * lerp2(c10) + t1 * lerp2(c11));
-  }
-};
+detail::TrilinearView trilinear_view(const Lut& lut) {
+  const std::array<double, 3> span = detail::lut_axis_spans(lut.layout, lut.shape);
+  detail::TrilinearView view;
+  view.values = lut.values.data();
+  view.nodes = lut.nodes_per_channel();
+  view.n0 = lut.shape[0], view.n1 = lut.shape[1], view.n2 = lut.shape[2];
+  view.n12 = static_cast<std::size_t>(view.n1) * view.n2;
+  view.scale0 = span[0], view.scale1 = span[1] / (0.5 * kPi), view.scale2 = span[2] / kPi;
+  return view;
+}
 
 // Slice layout: (theta_h, phi_d) at the slice's theta_d, bilinear.
 double slice_value(const Lut& lut, const detail::TableAngles& angles, int channel) {
@@ -292,25 +260,7 @@ void detail::lookup_span(const Lut& lut, const ScatterGeometry* geos, const Tabl
     kernel_span(lut, geos, angles, count, first_channel, channel_count, values);
     return;
   }
-  const TrilinearTable table(lut);
-  // Two passes per block: locate every query, then interpolate while the cache lines of a query
-  // a few places ahead are prefetched (random queries miss the cache: 4 lines per channel).
-  constexpr std::size_t kBlock = 64, kAhead = 4;
-  std::size_t corners[kBlock];
-  double fractions[kBlock][3];
-  for (std::size_t begin = 0; begin < count; begin += kBlock) {
-    const std::size_t n = std::min(kBlock, count - begin);
-    for (std::size_t k = 0; k < n; ++k)
-      corners[k] = table.locate(angles[begin + k], fractions[k][0], fractions[k][1], fractions[k][2]);
-    for (std::size_t k = 0; k < n; ++k) {
-      if (k + kAhead < n) {
-        for (int c = 0; c < channel_count; ++c) table.prefetch(first_channel + c, corners[k + kAhead]);
-      }
-      double* out = values + (begin + k) * channel_count;
-      for (int c = 0; c < channel_count; ++c)
-        out[c] = table.interpolate(first_channel + c, corners[k], fractions[k][0], fractions[k][1], fractions[k][2]);
-    }
-  }
+  detail::trilinear_span(trilinear_view(lut), angles, count, first_channel, channel_count, values);
 }
 
 void detail::lookup_all_span(const Lut& lut, const ScatterGeometry* geos, std::size_t count, double* values) {

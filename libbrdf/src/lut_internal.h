@@ -22,6 +22,19 @@ struct TableAngles {
   double theta_h, theta_d, phi_d, theta_i;
 };
 void table_angles(const ScatterGeometry* geos, std::size_t count, TableAngles* out);
+// A rusinkiewicz or MERL table as its trilinear lookups see it (lut.cpp builds it from the Lut):
+// channel c's node (i0, i1, i2) is values[c * nodes + i0 * n12 + i1 * n2 + i2]; index positions
+// are sqrt(theta_h / (pi/2)) scale0 (the square map, lut.h), theta_d scale1, phi_d scale2.
+struct TrilinearView {
+  const float* values;
+  std::size_t nodes, n12;  // nodes per channel; stride of the theta_h axis
+  int n0, n1, n2;          // nodes per axis (n2: the phi_d axis, stride 1)
+  double scale0, scale1, scale2;
+};
+// Trilinear values of channels [first, first + channel_count) at `count` queries:
+// values[k * channel_count + c] (SIMD, one query per lane: trilinear_simd.cpp).
+void trilinear_span(const TrilinearView& table, const TableAngles* angles, std::size_t count, int first_channel, int channel_count,
+                    double* values);
 // Kernel layout: the closed-form part of the angular factor P of a channel (lut.h), evaluated at
 // lookup; the table holds P~ = P / K / that. F(theta_d) times F_bk^2 of eq. 26 (bk), 1/S of eq. 28
 // (bk-modified), G/S (mbk-fg in the closed form), 1 (mbk-fg and mbk with the table form); Stover's

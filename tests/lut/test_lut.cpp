@@ -5,15 +5,18 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cfloat>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <functional>
+#include <iostream>
 #include <fstream>
 #include <random>
 #include <string>
 
+#include "libbrdf/batch.h"
 #include "libbrdf/error.h"
 #include "libbrdf/lut.h"
 #include "libbrdf/materials.h"
@@ -191,6 +194,70 @@ TEST(Lut, LookupAtAFeasibleNodeReturnsTheNodeValue) {
         ++checked;
       }
   EXPECT_GT(checked, 500);
+}
+
+// The batch lookup (SIMD lanes, trilinear_simd.cpp) against the trilinear formula of the mapping
+// lut.h documents, written here from the table's values: every channel, a count that leaves a
+// partial vector, both trilinear layouts, queries up to the horizon and past the MERL grid's last
+// nodes (whose values it holds).
+TEST(Lut, BatchLookupIsTheDocumentedTrilinearFormula) {
+  for (const LutLayout layout : {LutLayout::rusinkiewicz, LutLayout::merl}) {
+    SCOPED_TRACE(layout_name(layout));
+    BakeRequest r = request_for(ModelKind::mbk, 0.1, 2.0, {0.65, 0.55, 0.45});
+    r.layout = layout;
+    if (layout == LutLayout::rusinkiewicz) r.resolution = std::array<int, 3>{13, 11, 9};
+    r.error_samples = 300;
+    const Lut lut = bake(r);
+    const int n0 = lut.shape[0], n1 = lut.shape[1], n2 = lut.shape[2];
+    // Index-space length of each axis: N - 1 nodes' spacings (rusinkiewicz), N (MERL: no node on
+    // the upper ends).
+    const int last = layout == LutLayout::merl ? 0 : 1;
+    auto axis = [](double x, int nodes, int& i, double& t) {
+      x = std::min(std::max(x, 0.0), double(nodes - 1));
+      i = std::min(static_cast<int>(std::floor(x)), nodes - 2);
+      t = x - i;
+    };
+    std::vector<ScatterGeometry> geos;
+    for (const ScatterAngles& a : random_geometries(1001, 89.9, 5)) geos.push_back(make_scatter_geometry(a));
+    std::vector<double> batch(3 * geos.size());
+    lookup_all_batch(lut, geos.data(), geos.size(), batch.data());
+    double worst = 0.0;
+    for (std::size_t k = 0; k < geos.size(); ++k) {
+      const HalfDifferenceAngles hd = half_difference_angles(geos[k]);
+      int i0, i1, i2;
+      double t0, t1, t2;
+      axis(std::sqrt(hd.theta_h / (0.5 * kPi)) * (n0 - last), n0, i0, t0);  // square map
+      axis(hd.theta_d / (0.5 * kPi) * (n1 - last), n1, i1, t1);
+      axis(hd.phi_d / kPi * (n2 - last), n2, i2, t2);
+      for (int c = 0; c < 3; ++c) {
+        auto node = [&](int a, int b, int e) {
+          return double(lut.values[static_cast<std::size_t>(c) * lut.nodes_per_channel() + (static_cast<std::size_t>(i0 + a) * n1 + i1 + b) * n2 + i2 + e]);
+        };
+        // The weighted sum of the 8 corners. Allowed: the rounding of any order of evaluation
+        // (1e-14 of the terms' magnitudes) and of the index positions, which this test computes
+        // with other roundings than the library (x / (pi/2) against x (2/pi)): a few ulps of a
+        // position move the value by that much times the corners' differences (corner values
+        // span decades at the specular peak).
+        double expected = 0.0, magnitude = 0.0, corners = 0.0;
+        for (int a = 0; a < 2; ++a)
+          for (int b = 0; b < 2; ++b)
+            for (int e = 0; e < 2; ++e) {
+              const double term = (a ? t0 : 1 - t0) * (b ? t1 : 1 - t1) * (e ? t2 : 1 - t2) * node(a, b, e);
+              expected += term, magnitude += std::abs(term), corners += std::abs(node(a, b, e));
+            }
+        const double position_ulps = 8.0 * DBL_EPSILON * std::max({i0 + t0, i1 + t1, i2 + t2, 1.0});
+        const double allowed = 1e-14 * magnitude + position_ulps * corners + 1e-300;
+        const double got = batch[3 * k + c];
+        ASSERT_TRUE(std::isfinite(got)) << k;
+        worst = std::max(worst, std::abs(got - expected) / allowed);
+        EXPECT_NEAR(got, expected, allowed) << "query " << k << " channel " << c;
+        double single[3];
+        lut.lookup_all(geos[k], single);  // one query: the same lanes, padded
+        EXPECT_EQ(single[c], got) << "query " << k;
+      }
+    }
+    std::cout << "[ measured ] batch lookup against the trilinear formula: largest difference / allowed " << worst << "\n";
+  }
 }
 
 // ---------------------------------------------------------------------------------------------
