@@ -145,7 +145,7 @@ inline double linear_1d(const std::vector<float>& table, double theta_i) {
 
 }  // namespace
 
-// Per-table constants of the trilinear layouts (rusinkiewicz, merl), hoisted out of the per-query loop.
+// The trilinear layouts (rusinkiewicz, merl) as their lookups in lanes see them (trilinear_simd.cpp).
 namespace {
 detail::TrilinearView trilinear_view(const Lut& lut) {
   const std::array<double, 3> span = detail::lut_axis_spans(lut.layout, lut.shape);

@@ -8,7 +8,8 @@
 // Every angle lies in [0, pi] and is atan2(y, x) with y >= 0, written without atan2 as
 //   a = atan(min(y, |x|) / max(y, |x|))          in [0, pi/4]
 //   a -> pi/2 - a  where y > |x|,   a -> pi - a  where x < 0,
-// so that hn::Atan (hwy/contrib/math, 2 ulp) only sees arguments in [0, 1].
+// so that the arctangent (Highway's polynomial of hn::Atan, hwy/contrib/math, 2 ulp) only sees
+// arguments in [0, 1].
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "table_angles_simd.cpp"
 #include <hwy/foreach_target.h>  // must come before highway.h
@@ -31,9 +32,9 @@ template <class D, class V>
 HWY_INLINE V UpperHalfAngle(D d, V y, V x) {
   const V ax = hn::Abs(x);
   const V big = hn::Max(hn::Max(y, ax), hn::Set(d, DBL_MIN));  // 0/0 -> 0/DBL_MIN = 0 at the origin
-  // hn::Atan's own polynomial on [0, 1]: hn::Atan (Highway 1.0.3) divides 1 by its argument or by 1
-  // in every lane to fold |x| > 1, a division per call that an argument already in [0, 1] does not
-  // need; on [0, 1] the two give the same bits.
+  // hn::Atan's own polynomial on [0, 1] (hwy::impl, Debian's Highway 1.0.3): hn::Atan divides 1 by
+  // its argument or by 1 in every lane to fold |x| > 1, a division that an argument already in
+  // [0, 1] does not need; there the two give the same bits (3-channel lookups 37.5 -> 35.6 ns).
   const V a = hn::impl::AtanImpl<double>().AtanPoly(d, hn::Div(hn::Min(y, ax), big));
   const V folded = hn::IfThenElse(hn::Gt(y, ax), hn::Sub(hn::Set(d, 0.5 * kPi), a), a);
   return hn::IfThenElse(hn::Lt(x, hn::Zero(d)), hn::Sub(hn::Set(d, kPi), folded), folded);
