@@ -464,7 +464,7 @@ LutError measure_lut_error(const Lut& lut, const std::vector<Model>& channel_mod
       if (lut.layout == LutLayout::kernel) {  // the nodes hold the angular factor: the BRDF is rebuilt
         const ScatterGeometry geo = make_scatter_geometry(a);
         detail::TableAngles angles;
-        detail::table_angles(&geo, 1, &angles);
+        detail::table_angles_for(lut, &geo, 1, &angles);
         std::vector<double> brdf(channels);
         detail::lookup_channels(lut, geo, angles, 0, channels, brdf.data());
         for (double v : brdf) row_max[row] = std::max(row_max[row], static_cast<float>(v));

@@ -140,7 +140,7 @@ void lookup_batch(const Lut& lut, int channel, const ScatterAngles* angles, std:
     std::vector<ScatterGeometry> geos(end - begin);
     std::vector<detail::TableAngles> table(end - begin);
     make_scatter_geometries(angles + begin, end - begin, geos.data());  // validated above
-    detail::table_angles(geos.data(), geos.size(), table.data());
+    detail::table_angles_for(lut, geos.data(), geos.size(), table.data());
     detail::lookup_span(lut, geos.data(), table.data(), geos.size(), channel, 1, values + begin);
   });
 }

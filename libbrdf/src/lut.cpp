@@ -269,7 +269,7 @@ void detail::lookup_all_span(const Lut& lut, const ScatterGeometry* geos, std::s
   const int channels = lut.channels();
   for (std::size_t begin = 0; begin < count; begin += kBlock) {
     const std::size_t n = std::min(kBlock, count - begin);
-    table_angles(geos + begin, n, angles);
+    table_angles_for(lut, geos + begin, n, angles);
     lookup_span(lut, geos + begin, angles, n, 0, channels, values + begin * channels);
   }
 }
@@ -299,7 +299,7 @@ double Lut::lookup(int channel, const ScatterGeometry& geo) const {
   if (channel < 0 || channel >= channels())
     throw InvalidArgument("channel", "must be in [0, " + std::to_string(channels() - 1) + "] (got " + std::to_string(channel) + ")");
   detail::TableAngles angles;
-  detail::table_angles(&geo, 1, &angles);
+  detail::table_angles_for(*this, &geo, 1, &angles);
   double value = 0.0;
   detail::lookup_span(*this, &geo, &angles, 1, channel, 1, &value);
   return value;

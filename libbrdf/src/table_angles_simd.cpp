@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <cfloat>
+#include <limits>
 
 #include "geometry_records-inl.h"  // LoadRecords
 #include "lut_internal.h"
@@ -71,6 +72,30 @@ HWY_INLINE void TableAnglesOfVector(D d, const ScatterGeometry* geos, TableAngle
                         UpperHalfAngle(d, si, ci), d, reinterpret_cast<double*>(out));
 }
 
+// theta_i alone (the same arithmetic as TableAnglesOfVector's), into `lanes` consecutive outputs.
+template <class D>
+HWY_INLINE void ThetaIOfVector(D d, const ScatterGeometry* geos, double* out) {
+  hn::Store(UpperHalfAngle(d, Field(d, geos, kSinI), Field(d, geos, kCosI)), d, out);
+}
+
+void ThetaISpan(const ScatterGeometry* geos, std::size_t count, TableAngles* out) {
+  const hn::ScalableTag<double> d;
+  constexpr std::size_t kMaxLanes = HWY_MAX_BYTES / sizeof(double);
+  const std::size_t lanes = hn::Lanes(d);
+  alignas(64) double theta_i[kMaxLanes];
+  ScatterGeometry pad[kMaxLanes];
+  for (std::size_t k = 0; k < count; k += lanes) {
+    const std::size_t m = std::min(lanes, count - k);
+    const ScatterGeometry* from = geos + k;
+    if (m < lanes) {  // the remainder through a padded copy (padding repeats the last geometry)
+      for (std::size_t j = 0; j < lanes; ++j) pad[j] = geos[std::min(k + j, count - 1)];
+      from = pad;
+    }
+    ThetaIOfVector(d, from, theta_i);
+    for (std::size_t j = 0; j < m; ++j) out[k + j].theta_i = theta_i[j];
+  }
+}
+
 void TableAnglesSpan(const ScatterGeometry* geos, std::size_t count, TableAngles* out) {
   const hn::ScalableTag<double> d;
   const std::size_t lanes = hn::Lanes(d);
@@ -93,8 +118,20 @@ HWY_AFTER_NAMESPACE();
 #if HWY_ONCE
 namespace libbrdf::detail {
 HWY_EXPORT(TableAnglesSpan);
+HWY_EXPORT(ThetaISpan);
 void table_angles(const ScatterGeometry* geos, std::size_t count, TableAngles* out) {
   if (count > 0) HWY_DYNAMIC_DISPATCH(TableAnglesSpan)(geos, count, out);
+}
+void table_angles_for(const Lut& lut, const ScatterGeometry* geos, std::size_t count, TableAngles* out) {
+  if (count == 0) return;
+  if (lut.layout != LutLayout::kernel || lut.kernel_angular != KernelAngular::closed_form) {
+    HWY_DYNAMIC_DISPATCH(TableAnglesSpan)(geos, count, out);
+    return;
+  }
+  // The closed form's table holds 1 (lut.cpp, kernel_span): no half/difference angles are read.
+  constexpr double kUnread = std::numeric_limits<double>::quiet_NaN();
+  for (std::size_t k = 0; k < count; ++k) out[k].theta_h = out[k].theta_d = out[k].phi_d = kUnread;
+  HWY_DYNAMIC_DISPATCH(ThetaISpan)(geos, count, out);
 }
 }  // namespace libbrdf::detail
 #endif
