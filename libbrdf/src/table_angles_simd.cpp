@@ -72,43 +72,39 @@ HWY_INLINE void TableAnglesOfVector(D d, const ScatterGeometry* geos, TableAngle
                         UpperHalfAngle(d, si, ci), d, reinterpret_cast<double*>(out));
 }
 
-// theta_i alone (the same arithmetic as TableAnglesOfVector's), into `lanes` consecutive outputs.
+// theta_i alone (the same arithmetic as TableAnglesOfVector's); the other three angles NaN.
 template <class D>
-HWY_INLINE void ThetaIOfVector(D d, const ScatterGeometry* geos, double* out) {
-  hn::Store(UpperHalfAngle(d, Field(d, geos, kSinI), Field(d, geos, kCosI)), d, out);
+HWY_INLINE void ThetaIOfVector(D d, const ScatterGeometry* geos, TableAngles* out) {
+  alignas(64) double theta_i[HWY_MAX_BYTES / sizeof(double)];
+  hn::Store(UpperHalfAngle(d, Field(d, geos, kSinI), Field(d, geos, kCosI)), d, theta_i);
+  constexpr double kUnread = std::numeric_limits<double>::quiet_NaN();
+  for (std::size_t j = 0; j < hn::Lanes(d); ++j) out[j] = TableAngles{kUnread, kUnread, kUnread, theta_i[j]};
 }
 
-void ThetaISpan(const ScatterGeometry* geos, std::size_t count, TableAngles* out) {
-  const hn::ScalableTag<double> d;
-  constexpr std::size_t kMaxLanes = HWY_MAX_BYTES / sizeof(double);
-  const std::size_t lanes = hn::Lanes(d);
-  alignas(64) double theta_i[kMaxLanes];
-  ScatterGeometry pad[kMaxLanes];
-  for (std::size_t k = 0; k < count; k += lanes) {
-    const std::size_t m = std::min(lanes, count - k);
-    const ScatterGeometry* from = geos + k;
-    if (m < lanes) {  // the remainder through a padded copy (padding repeats the last geometry)
-      for (std::size_t j = 0; j < lanes; ++j) pad[j] = geos[std::min(k + j, count - 1)];
-      from = pad;
-    }
-    ThetaIOfVector(d, from, theta_i);
-    for (std::size_t j = 0; j < m; ++j) out[k + j].theta_i = theta_i[j];
-  }
-}
-
-void TableAnglesSpan(const ScatterGeometry* geos, std::size_t count, TableAngles* out) {
+// of_vector(d, geos, out) over the span: whole vectors, then the remainder through a padded copy
+// (padding repeats the last geometry).
+template <class OfVector>
+void ForEachVector(const ScatterGeometry* geos, std::size_t count, TableAngles* out, const OfVector& of_vector) {
   const hn::ScalableTag<double> d;
   const std::size_t lanes = hn::Lanes(d);
   std::size_t k = 0;
-  for (; k + lanes <= count; k += lanes) TableAnglesOfVector(d, geos + k, out + k);
-  if (k < count) {  // the remainder through a padded copy (padding repeats the last geometry)
+  for (; k + lanes <= count; k += lanes) of_vector(d, geos + k, out + k);
+  if (k < count) {
     constexpr std::size_t kMaxLanes = HWY_MAX_BYTES / sizeof(double);
     ScatterGeometry pad[kMaxLanes];
     TableAngles angles[kMaxLanes];
     for (std::size_t j = 0; j < lanes; ++j) pad[j] = geos[std::min(k + j, count - 1)];
-    TableAnglesOfVector(d, pad, angles);
+    of_vector(d, pad, angles);
     std::copy(angles, angles + (count - k), out + k);
   }
+}
+
+void TableAnglesSpan(const ScatterGeometry* geos, std::size_t count, TableAngles* out) {
+  ForEachVector(geos, count, out, [](auto d, const ScatterGeometry* g, TableAngles* o) { TableAnglesOfVector(d, g, o); });
+}
+
+void ThetaISpan(const ScatterGeometry* geos, std::size_t count, TableAngles* out) {
+  ForEachVector(geos, count, out, [](auto d, const ScatterGeometry* g, TableAngles* o) { ThetaIOfVector(d, g, o); });
 }
 
 }  // namespace HWY_NAMESPACE
@@ -129,8 +125,6 @@ void table_angles_for(const Lut& lut, const ScatterGeometry* geos, std::size_t c
     return;
   }
   // The closed form's table holds 1 (lut.cpp, kernel_span): no half/difference angles are read.
-  constexpr double kUnread = std::numeric_limits<double>::quiet_NaN();
-  for (std::size_t k = 0; k < count; ++k) out[k].theta_h = out[k].theta_d = out[k].phi_d = kUnread;
   HWY_DYNAMIC_DISPATCH(ThetaISpan)(geos, count, out);
 }
 }  // namespace libbrdf::detail
