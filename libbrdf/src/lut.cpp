@@ -249,6 +249,12 @@ void kernel_span(const Lut& lut, const ScatterGeometry* geos, const detail::Tabl
 }
 }  // namespace
 
+void detail::table_angles_for(const Lut& lut, const ScatterGeometry* geos, std::size_t count, TableAngles* out) {
+  // The closed form's table holds 1 (kernel_span): no half/difference angles are read.
+  if (lut.layout == LutLayout::kernel && lut.kernel_angular == KernelAngular::closed_form) table_theta_i(geos, count, out);
+  else table_angles(geos, count, out);
+}
+
 void detail::lookup_span(const Lut& lut, const ScatterGeometry* geos, const TableAngles* angles, std::size_t count,
                          int first_channel, int channel_count, double* values) {
   if (lut.layout == LutLayout::slice) {

@@ -22,9 +22,11 @@ struct TableAngles {
   double theta_h, theta_d, phi_d, theta_i;
 };
 void table_angles(const ScatterGeometry* geos, std::size_t count, TableAngles* out);
-// What a lookup of `lut` reads of them: all four, or theta_i alone (the others NaN) for the kernel
-// layout's closed form, whose lookups need theta_i only (K's side table): 3-channel kernel lookups
-// spent ~15% of their time on the other three angles.
+// theta_i alone (the same bits as table_angles'), the other three angles NaN.
+void table_theta_i(const ScatterGeometry* geos, std::size_t count, TableAngles* out);
+// The angles a lookup of `lut` reads (lut.cpp): all four, or theta_i alone for the kernel layout's
+// closed form, whose lookups need theta_i only (K's side table): 3-channel kernel lookups spent
+// ~15% of their time on the other three angles.
 void table_angles_for(const Lut& lut, const ScatterGeometry* geos, std::size_t count, TableAngles* out);
 // A rusinkiewicz or MERL table as its trilinear lookups see it (lut.cpp builds it from the Lut):
 // channel c's node (i0, i1, i2) is values[c * nodes + i0 * n12 + i1 * n2 + i2]; index positions

@@ -118,14 +118,8 @@ HWY_EXPORT(ThetaISpan);
 void table_angles(const ScatterGeometry* geos, std::size_t count, TableAngles* out) {
   if (count > 0) HWY_DYNAMIC_DISPATCH(TableAnglesSpan)(geos, count, out);
 }
-void table_angles_for(const Lut& lut, const ScatterGeometry* geos, std::size_t count, TableAngles* out) {
-  if (count == 0) return;
-  if (lut.layout != LutLayout::kernel || lut.kernel_angular != KernelAngular::closed_form) {
-    HWY_DYNAMIC_DISPATCH(TableAnglesSpan)(geos, count, out);
-    return;
-  }
-  // The closed form's table holds 1 (lut.cpp, kernel_span): no half/difference angles are read.
-  HWY_DYNAMIC_DISPATCH(ThetaISpan)(geos, count, out);
+void table_theta_i(const ScatterGeometry* geos, std::size_t count, TableAngles* out) {
+  if (count > 0) HWY_DYNAMIC_DISPATCH(ThetaISpan)(geos, count, out);
 }
 }  // namespace libbrdf::detail
 #endif
