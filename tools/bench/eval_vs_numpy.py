@@ -192,7 +192,6 @@ def main():
         configs += [(m, "1e-6", "series") for m in a.models if "series" in a.methods]
         for name, s in surfaces.items():
             surface = ["--sigma-s", str(s["sigma_s"]), "--lc", str(s["lc"]), "--wavelength", str(s["wavelength"])]
-            ref = numpy_asf(ti, ts, ps, **s)  # its values (timed below, in the rounds)
             exact = reference_asf(ti[check], ts[check], ps[check], **s)
             keep = exact > 1e-300
             # mbk = K Qbar A (eq. 11 x Qbar): its reference multiplies the converged A by brdf's own K and
@@ -210,14 +209,14 @@ def main():
                 numpy_mbk_columns = (f"{max_rel_err(mbk[check][keep], mbk_exact[keep]):.2e},"
                                      f"{max_rel_err(np.interp(ti[check], K_NODES, k_table), k_direct):.2e},"
                                      f"{max_rel_err(numpy_qbar(*at_check, INDEX_COMPLEX), q_brdf):.2e}")
-            numpy_error = max_rel_err(ref[check][keep], exact[keep])
             def args(model, tol, method):
                 extra = INDEX_ARGS if model != "asf" else []
                 return ["--model", model, *surface, *extra, "--tolerance", tol, "--asf-method", method]
             io_runs, io_inproc, runs, inproc, outputs = [], [], {c: [] for c in configs}, {c: [] for c in configs}, {}
             numpy_runs = []
             for r in range(a.repeat):  # interleaved: numpy, the I/O run, then every configuration
-                numpy_runs.append(best_cpu(lambda: numpy_asf(ti, ts, ps, **s), 1)[0])
+                numpy_time, numpy_values = best_cpu(lambda: numpy_asf(ti, ts, ps, **s), 1)  # the same values every round
+                numpy_runs.append(numpy_time)
                 t, _, t_in = time_cli(a.brdf, ["--model", "g", *surface], path)
                 io_runs.append(t)
                 io_inproc.append(t_in)
@@ -228,6 +227,7 @@ def main():
                     if r == 0:
                         outputs[config] = out
             io, best_np = min(io_runs), min(numpy_runs)
+            numpy_error = max_rel_err(numpy_values[check][keep], exact[keep])
             for model, tol, method in configs:
                 config = (model, tol, method)
                 vals = csv_values(outputs[config])[check]
