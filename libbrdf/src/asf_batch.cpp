@@ -333,9 +333,10 @@ std::size_t KernelTableLanes(const KernelTableView& table, const double* g, cons
   const V g_min = hn::Set(d, kKernelGMin), g_max = hn::Set(d, kKernelGMax);
   const V z_near = hn::Set(d, kKernelZNear), z_far = hn::Set(d, kKernelZFar);
   std::size_t outside_count = 0;
-  // node (i + 1, j) - node (i, j), in each section; the far section's first node.
-  const V near_stride = hn::Set(d, 4.0 * table.nz), far_stride = hn::Set(d, 4.0 * table.nw);
-  const V far_base = hn::Set(d, 4.0 * table.nx * table.nz);
+  // node (i + 1, j) - node (i, j), in each section; the far section's first node (in doubles).
+  const double slot = table.node_doubles;
+  const V near_stride = hn::Set(d, slot * table.nz), far_stride = hn::Set(d, slot * table.nw);
+  const V far_base = hn::Set(d, slot * table.nx * table.nz), vslot = hn::Set(d, slot);
   alignas(64) double gb[kMaxLanes], cb[kMaxLanes], out[kMaxLanes];
   // Two chunks in flight: the cells of chunk k + 1 are located (and their rows prefetched) before
   // chunk k is interpolated, so that the prefetches lead the loads by a whole chunk.
@@ -388,17 +389,19 @@ std::size_t KernelTableLanes(const KernelTableView& table, const double* g, cons
         dv = hn::IfThenElse(far_cell, vdw, hn::IfThenZeroElse(beyond, vdz));
       }
       // The cell's first node in its section, and the next row's (the sections' rows differ in length).
-      const V node = hn::IfThenElse(far_cell, hn::MulAdd(hn::MulAdd(fi, hn::Set(d, double(table.nw)), fj), hn::Set(d, 4.0), far_base),
-                                    hn::Mul(hn::MulAdd(fi, hn::Set(d, double(table.nz)), fj), hn::Set(d, 4.0)));
+      const V node = hn::IfThenElse(far_cell, hn::MulAdd(hn::MulAdd(fi, hn::Set(d, double(table.nw)), fj), vslot, far_base),
+                                    hn::Mul(hn::MulAdd(fi, hn::Set(d, double(table.nz)), fj), vslot));
       const V stride = hn::IfThenElse(far_cell, far_stride, near_stride);
       hn::Store(hn::Sub(ux, fi), d, s_chunk + k), hn::Store(hn::Sub(uv, fj), d, t_chunk + k), hn::Store(dv, d, dv_chunk + k);
       hn::Store(hn::ConvertTo(di, node), di, at.node[0] + k), hn::Store(hn::ConvertTo(di, hn::Add(node, stride)), di, at.node[1] + k);
       if (table.prefetch_rows) {
+        // A paired slot is one aligned line; otherwise the row's lines at both ends.
+        const std::size_t last = table.node_doubles == 8 ? 0 : 7;
         for (std::size_t q = 0; q < n; ++q)
           for (std::size_t a = 0; a < 2; ++a) {
             const double* row = nodes + at.node[a][k + q];
             hwy::Prefetch(row);
-            hwy::Prefetch(row + 7);
+            if (last != 0) hwy::Prefetch(row + last);
           }
       }
     }

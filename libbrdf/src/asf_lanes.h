@@ -24,14 +24,16 @@ inline constexpr double kLaneMaxStride = 16.0;
 std::size_t series_query_lanes(const double* g, const double* c, std::size_t count, double relative_tolerance,
                                double* sigma, std::uint32_t* rejected);
 
-// A kernel table's grid and nodes (kernel_table.h): 4 doubles per node (F, F_x, F_v, F_xv); near
-// node (i, j) at 4 (i nz + j) (v = z, spacing dz), far node (i, k) at 4 (nx nz + i nw + k) (v = w,
+// A kernel table's grid and nodes (KernelTable::nodes()): a slot of S = node_doubles doubles per
+// node, whose first 8 doubles are (F, F_x, F_v, F_xv) of the node and of its right neighbour; near
+// node (i, j) at S (i nz + j) (v = z, spacing dz), far node (i, k) at S (nx nz + i nw + k) (v = w,
 // spacing dw).
 struct KernelTableView {
   const double* nodes;
   int nx, nz, nw;
   double x_min, dx, dz, dw;
   bool prefetch_rows;  // KernelTableSpec's
+  int node_doubles;    // KernelTableSpec::node_doubles(): doubles per node slot (KernelTable::nodes())
 };
 
 // The kernel table's bicubic Hermite lookup (KernelTable::sigma) in lanes: out[k] = scale exp(F(ln g, v))

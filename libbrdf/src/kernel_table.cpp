@@ -56,26 +56,35 @@ KernelGrid kernel_grid(const KernelTableSpec& spec) {
   grid.nx = static_cast<int>(std::ceil((std::log(kKernelGMax) - grid.x_min) / grid.dx)) + 2;
   grid.nz = static_cast<int>(std::ceil(kKernelZNear / grid.dz)) + 2;
   grid.nw = static_cast<int>(std::ceil(std::log(kKernelZFar / kKernelZNear) / grid.dw)) + 2;
+  grid.node_doubles = spec.node_doubles();
   return grid;
 }
 }  // namespace detail
 
 std::vector<double> KernelTable::compute_nodes(Tier tier) {
   const detail::KernelGrid grid = detail::kernel_grid(spec_of(tier));
+  const std::size_t slot = static_cast<std::size_t>(grid.node_doubles);
   std::vector<double> nodes(grid.values(), 0.0);
-  double* const far_block = &nodes[4 * static_cast<std::size_t>(grid.nx) * grid.nz];
+  double* const far_block = &nodes[slot * grid.nx * grid.nz];
+  // Paired slots: each node's four values again at the end of its left neighbour's slot.
+  auto pair_with_left = [&](double* row, int count) {
+    if (slot == 8)
+      for (int j = 1; j < count; ++j) std::copy(row + slot * j, row + slot * j + 4, row + slot * (j - 1) + 4);
+  };
   tbb::parallel_for(tbb::blocked_range<int>(0, grid.nx), [&](const tbb::blocked_range<int>& rows) {
     for (int i = rows.begin(); i != rows.end(); ++i) {
       const double x = grid.x_min + i * grid.dx;
-      double* near_row = &nodes[4 * static_cast<std::size_t>(i) * grid.nz];
-      for (int j = 0; j < grid.nz; ++j) node_values(x, j * grid.dz, near_row + 4 * j);
-      double* far_row = far_block + 4 * static_cast<std::size_t>(i) * grid.nw;
+      double* near_row = &nodes[slot * i * grid.nz];
+      for (int j = 0; j < grid.nz; ++j) node_values(x, j * grid.dz, near_row + slot * j);
+      pair_with_left(near_row, grid.nz);
+      double* far_row = far_block + slot * i * grid.nw;
       for (int k = 0; k < grid.nw; ++k) {
-        double* node = far_row + 4 * k;
+        double* node = far_row + slot * k;
         const double z = kKernelZNear * std::exp(k * grid.dw);
         node_values(x, z, node);
         node[2] *= z, node[3] *= z;  // d/dw = z d/dz
       }
+      pair_with_left(far_row, grid.nw);
     }
   });
   return nodes;
@@ -114,7 +123,9 @@ KernelTable::KernelTable(Tier tier) : tier_(tier), spec_(spec_of(tier)) {
       std::memcpy(&header, file.data + offset, sizeof header);
       matches = std::memcmp(header.magic, detail::kKernelTableMagic, sizeof header.magic) == 0 && header.nx == expected.nx &&
                 header.nz == expected.nz && header.nw == expected.nw && header.x_min == expected.x_min &&
-                header.dx == expected.dx && header.dz == expected.dz && header.dw == expected.dw && header.values == values && file.size >= offset + sizeof header + values * sizeof(double);
+                header.dx == expected.dx && header.dz == expected.dz && header.dw == expected.dw &&
+                header.node_doubles == expected.node_doubles && header.values == values &&
+                file.size >= offset + sizeof header + values * sizeof(double);
       if (!matches) break;
       if (section == tier) nodes_ = reinterpret_cast<const double*>(file.data + offset + sizeof header);
       offset += sizeof header + values * sizeof(double);
@@ -140,7 +151,8 @@ double KernelTable::log_sigma(double g, double c) const {
   const double u_v = far ? std::log(z / kKernelZNear) / dw_ : z / dz_;
   const double dv = far ? dw_ : dz_;
   const int row_nodes = far ? nw_ : nz_;
-  const double* section = far ? nodes_ + 4 * static_cast<std::size_t>(nx_) * nz_ : nodes_;
+  const std::size_t slot = static_cast<std::size_t>(spec_.node_doubles());
+  const double* section = far ? nodes_ + slot * nx_ * nz_ : nodes_;
   const int i = std::min(static_cast<int>(u_x), nx_ - 2);
   const int j = std::min(static_cast<int>(u_v), row_nodes - 2);
   const double s = u_x - i, t = u_v - j;
@@ -153,9 +165,9 @@ double KernelTable::log_sigma(double g, double c) const {
   const double gz[2] = {(t3 - 2 * t2 + t) * dv, (t3 - t2) * dv};
   double f = 0.0;
   for (int a = 0; a < 2; ++a) {
-    const double* row = section + 4 * (static_cast<std::size_t>(i + a) * row_nodes + j);
+    const double* row = section + slot * (static_cast<std::size_t>(i + a) * row_nodes + j);
     for (int b = 0; b < 2; ++b) {
-      const double* n = row + 4 * b;
+      const double* n = row + 4 * b;  // node (i + a, j + b): the next 4 doubles in either layout
       f += hx[a] * (hz[b] * n[0] + gz[b] * n[2]) + gx[a] * (hz[b] * n[1] + gz[b] * n[3]);
     }
   }
@@ -164,7 +176,7 @@ double KernelTable::log_sigma(double g, double c) const {
 
 std::size_t KernelTable::scaled_sigma_inside(const double* g, const double* c, std::size_t count, double scale, double* out,
                                              std::uint32_t* outside) const {
-  const detail::KernelTableView view{nodes_, nx_, nz_, nw_, x_min_, dx_, dz_, dw_, spec_.prefetch_rows};
+  const detail::KernelTableView view{nodes_, nx_, nz_, nw_, x_min_, dx_, dz_, dw_, spec_.prefetch_rows, spec_.node_doubles()};
   return detail::kernel_table_lanes(view, g, c, count, scale, out, outside);
 }
 

@@ -15,18 +15,19 @@ struct KernelTableFileHeader {
   char magic[8];
   std::int32_t nx, nz;
   double x_min, dx, dz;
-  std::uint64_t values;  // doubles that follow: 4 nx (nz + nw)
+  std::uint64_t values;  // doubles that follow: node_doubles nx (nz + nw)
   double dw;
-  std::int32_t nw, reserved;
+  std::int32_t nw, node_doubles;  // doubles per node slot (KernelTable::nodes())
 };
 static_assert(sizeof(KernelTableFileHeader) == 64);
-inline constexpr char kKernelTableMagic[8] = {'L', 'B', 'K', 'T', 'A', 'B', '0', '3'};
+inline constexpr char kKernelTableMagic[8] = {'L', 'B', 'K', 'T', 'A', 'B', '0', '4'};
 
 // The grid of a tier (kernel_table.h's constants).
 struct KernelGrid {
   int nx, nz, nw;
   double x_min, dx, dz, dw;
-  std::size_t values() const { return static_cast<std::size_t>(nx) * (nz + nw) * 4; }
+  int node_doubles;  // KernelTableSpec::node_doubles()
+  std::size_t values() const { return static_cast<std::size_t>(nx) * (nz + nw) * node_doubles; }
 };
 KernelGrid kernel_grid(const KernelTableSpec& spec);
 inline constexpr KernelTable::Tier kKernelTableTiers[] = {KernelTable::Tier::fine, KernelTable::Tier::coarse};

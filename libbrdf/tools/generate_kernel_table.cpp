@@ -35,6 +35,7 @@ int main(int argc, char** argv) {
       std::memcpy(header.magic, libbrdf::detail::kKernelTableMagic, sizeof header.magic);
       header.nx = grid.nx, header.nz = grid.nz, header.nw = grid.nw;
       header.x_min = grid.x_min, header.dx = grid.dx, header.dz = grid.dz, header.dw = grid.dw;
+      header.node_doubles = grid.node_doubles;
       header.values = table.value_count();
       written = written && std::fwrite(&header, sizeof header, 1, file) == 1 &&
                 std::fwrite(table.nodes(), sizeof(double), table.value_count(), file) == table.value_count();

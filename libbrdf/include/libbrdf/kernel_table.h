@@ -50,7 +50,8 @@ inline constexpr double kKernelZFar = 170.0;
 // Measured max (the sweep below): dz = dx = 1/10: 2.1e-5 (at g = 1.3e-5, z = 5.05); 1/20, 1/25:
 // 4.6e-7 (g ~ 1e-5); 1/20, 1/30: 2.7e-7. 1/10 x 1/8 would be ~5e-5 (h^4), without the margin of 2.
 // Far section: dw = 1/150 with dx = 1/20: 3.0e-7 (at g = 0.19, z = 142); 1/50 with 1/10: 1.8e-5
-// (g = 1.05e-5, z = 32). Sizes: fine 555 x (902 + 263) nodes, 20.7 MB; coarse 279 x (302 + 89), 3.5 MB.
+// (g = 1.05e-5, z = 32). Sizes: fine 555 x (902 + 263) nodes, 20.7 MB of node values, stored paired
+// (paired_nodes below) in 41.4 MB; coarse 279 x (302 + 89), 3.5 MB.
 struct KernelTableSpec {
   int nodes_per_unit_x;    // dx = 1 / this, in ln g
   int nodes_per_unit_z;    // dz = 1 / this (near section)
@@ -65,9 +66,20 @@ struct KernelTableSpec {
   // coarse table's band of a surface stays in L2, where the prefetches only cost (polished,
   // single pass: 6.9 -> 5.4 ns per query without them).
   bool prefetch_rows;
+  // Whether each node is stored twice, as one 64-byte record with its right neighbour (nodes (i, j)
+  // and (i, j + 1), nodes() below): a query's cell row is then one aligned cache line, where 32-byte
+  // nodes put it across two lines half the time (3 lines per query on average -> 2), for twice the
+  // bytes. Measured with both layouts in one process, alternating phases of 25 batches of 4000
+  // queries, each model streaming its inputs as `brdf eval` does (stop 22). Fine tier, asf minus g
+  // per query, median of the phases' differences: polished -1.3 to -1.6 ns, intermediate -1.0 to
+  // -2.1, rough -0.5 to -2.5 (of 14-18 ns; runs on a loaded shared machine); the quietest batches
+  // (10th percentile) -0.3 to -0.8 ns of ~11. Coarse tier, whose band of a surface stays in L2:
+  // +0.7 to +1.5 ns, so it keeps single slots.
+  bool paired_nodes;
+  int node_doubles() const { return paired_nodes ? 8 : 4; }  // doubles per node slot (nodes() below)
 };
-inline constexpr KernelTableSpec kKernelTableFine{20, 30, 150, 1e-6, true};
-inline constexpr KernelTableSpec kKernelTableCoarse{10, 10, 50, 1e-4, false};
+inline constexpr KernelTableSpec kKernelTableFine{20, 30, 150, 1e-6, true, true};
+inline constexpr KernelTableSpec kKernelTableCoarse{10, 10, 50, 1e-4, false, false};
 inline constexpr double kKernelTableCertifiedError = kKernelTableFine.certified_error;
 
 class KernelTable {
@@ -79,7 +91,7 @@ class KernelTable {
   // The table asf_auto uses at this tolerance: the coarsest whose certified error is <= it;
   // nullptr below the fine table's.
   static const KernelTable* for_tolerance(double tolerance);
-  // Every node of a tier's grid from the series (multi-threaded): 4 doubles per node as nodes().
+  // Every node of a tier's grid from the series (multi-threaded), laid out as nodes().
   static std::vector<double> compute_nodes(Tier tier);
 
   // True when (g, c) lies inside the tables' domain: kKernelGMin <= g <= kKernelGMax, c >= 0 (up to
@@ -115,13 +127,15 @@ class KernelTable {
   double dx() const { return dx_; }
   double dz() const { return dz_; }
   double dw() const { return dw_; }
-  // Node data: 4 doubles per node (F, F_x, F_v, F_xv). The near section first, node (i, j) at
-  // index 4 (i nz + j) (v = z); then the far section, node (i, k) at 4 (nx nz + i nw + k) (v = w).
+  // Node data: a slot of S = spec().node_doubles() doubles per node, (F, F_x, F_v, F_xv) of the node,
+  // then (paired_nodes, S = 8) the same four of its right neighbour in the row (zeros after a row's
+  // last node). The near section first, node (i, j)'s slot at index S (i nz + j) (v = z); then the
+  // far section, node (i, k)'s at S (nx nz + i nw + k) (v = w).
   // Two blocks rather than rows of nz + nw nodes: the near rows, where most surfaces' queries fall,
   // keep their stride (rows of 1165 nodes: asf minus g 9.2 ns on the rough surface, against 7.9 ns
   // in two blocks and 7.7 ns before the far section; `brdf eval --timing`, 6 rounds, same run).
   const double* nodes() const { return nodes_; }
-  std::size_t value_count() const { return static_cast<std::size_t>(nx_) * (nz_ + nw_) * 4; }
+  std::size_t value_count() const { return static_cast<std::size_t>(nx_) * (nz_ + nw_) * spec_.node_doubles(); }
   std::size_t bytes() const { return value_count() * sizeof(double); }
   // True when the nodes are the library's embedded ones (no computation in this process).
   bool embedded() const { return computed_.empty(); }
