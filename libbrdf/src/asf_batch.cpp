@@ -299,7 +299,8 @@ std::size_t SeriesQueryLanes(const double* g, const double* c, std::size_t count
 // of every lane (16 gathers per vector before). The arithmetic is KernelTable::sigma's, term by
 // term as before (same results to the bit). 1e6 queries, AVX-512, one core, same run: 2.3-2.6x
 // faster than one pass of gathers (the transposition alone: 1.4x). The first pass also prefetches
-// each query's two cell rows (the lines at both ends of each row): a polished surface's queries
+// each query's two cell rows (a row's one line in paired slots, KernelTableSpec::paired_nodes;
+// otherwise the lines at both ends of the row): a polished surface's queries
 // spread over ~2.8 MB of the table, past L2, and the second pass's loads then find them on the way.
 // `brdf eval --timing`, asf minus g, 1e6 queries, one CPU, best of 5, same run: 17.0 -> 12.2 ns
 // (polished), 15.0 -> 12.9 (intermediate), 11.8 -> 12.2 (rough: its rows stay in cache, and the
@@ -396,12 +397,12 @@ std::size_t KernelTableLanes(const KernelTableView& table, const double* g, cons
       hn::Store(hn::ConvertTo(di, node), di, at.node[0] + k), hn::Store(hn::ConvertTo(di, hn::Add(node, stride)), di, at.node[1] + k);
       if (table.prefetch_rows) {
         // A paired slot is one aligned line; otherwise the row's lines at both ends.
-        const std::size_t last = table.node_doubles == 8 ? 0 : 7;
+        const bool row_is_one_line = table.node_doubles == 8;
         for (std::size_t q = 0; q < n; ++q)
           for (std::size_t a = 0; a < 2; ++a) {
             const double* row = nodes + at.node[a][k + q];
             hwy::Prefetch(row);
-            if (last != 0) hwy::Prefetch(row + last);
+            if (!row_is_one_line) hwy::Prefetch(row + 7);
           }
       }
     }
