@@ -6,8 +6,8 @@
 // so the inputs stream from memory as they do in `brdf eval`. (Timing g and then asf on the same
 // batch, as stop 21's harness did, hands asf a batch already in L1/L2: asf minus g read 8.0-8.4 ns
 // there on the polished surface against 10.7-11.9 ns in separate passes, stop 22.) The machine this
-// project runs on is shared: a batch's time moves by 1.5-2x with other tenants' load. So beside
-// Google Benchmark's mean the counters give quantiles over the batches, of the thread's CPU time:
+// project runs on is shared (streaming.h): beside Google Benchmark's mean the counters give
+// quantiles over the batches, of the thread's CPU time:
 //   ns_p10       10th percentile, ns per query (the least disturbed batches)
 //   ns_median    median batch, ns per query
 //   minus_g_p10  ns_p10 minus the g model's on the same surface in the same run (the issue's
@@ -28,8 +28,7 @@
 #include <string>
 #include <vector>
 
-#include <time.h>
-
+#include "streaming.h"
 #include "libbrdf/batch.h"
 #include "libbrdf/models.h"
 
@@ -58,29 +57,10 @@ const Queries& queries() {
   return q;
 }
 
-double thread_cpu_ns() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return 1e9 * static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_nsec);
-}
-
-double quantile(std::vector<double> v, double q) {
-  std::sort(v.begin(), v.end());
-  return v[static_cast<std::size_t>(q * static_cast<double>(v.size() - 1))];
-}
-
-struct IssueSurface {
-  const char* name;
-  double sigma_s_um;
-};
-constexpr IssueSurface kSurfaces[] = {{"polished", 0.005}, {"intermediate", 0.1}, {"rough", 0.5}};
+using bench::IssueSurface;
 
 ModelParameters parameters(const IssueSurface& surface, double tolerance) {
-  ModelParameters p;
-  p.sigma_s_um = surface.sigma_s_um;
-  p.lc_um = 2.0;
-  p.wavelength_um = 0.5;
-  p.index = ComplexIndex{1.5, 1.0};
+  ModelParameters p = bench::issue_parameters(surface, 0.5, ComplexIndex{1.5, 1.0});
   p.tolerance = tolerance;
   return p;
 }
@@ -93,28 +73,28 @@ void register_eval() {
   // g first: the others subtract its 10th percentile.
   static const Case cases[] = {{ModelKind::g, 1e-6}, {ModelKind::asf, 1e-6}, {ModelKind::asf, 1e-4}, {ModelKind::mbk, 1e-6}};
   auto g_p10 = std::make_shared<std::map<std::string, double>>();
-  for (const IssueSurface& surface : kSurfaces) {
+  for (const IssueSurface& surface : bench::kIssueSurfaces) {
     for (const Case& c : cases) {
       const std::string label = std::string("eval/") + surface.name + "/" + std::string(model_name(c.kind)) + "/" +
                                 (c.tolerance == 1e-6 ? "1e-6" : "1e-4");
-      benchmark::RegisterBenchmark(label.c_str(), [surface, c, g_p10](benchmark::State& state) {
+      bench::streaming(benchmark::RegisterBenchmark(label.c_str(), [surface, c, g_p10](benchmark::State& state) {
         const Queries& q = queries();
         const Model model(c.kind, parameters(surface, c.tolerance));
         std::vector<double> out(kQueries);
         std::vector<double> per_query_ns;
         std::size_t begin = 0;
         for (auto _ : state) {
-          const double start = thread_cpu_ns();
-          evaluate_degrees_batch(model, q.theta_i.data() + begin, q.theta_s.data() + begin, q.phi_s.data() + begin, kBatch,
-                                 out.data() + begin);
-          per_query_ns.push_back((thread_cpu_ns() - start) / kBatch);
+          bench::time_batch(kBatch, per_query_ns, [&] {
+            evaluate_degrees_batch(model, q.theta_i.data() + begin, q.theta_s.data() + begin, q.phi_s.data() + begin, kBatch,
+                                   out.data() + begin);
+          });
           benchmark::DoNotOptimize(out.data());
           begin = (begin + kBatch) % kQueries;
         }
         state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(kBatch));
-        const double p10 = quantile(per_query_ns, 0.1);
+        const double p10 = bench::quantile(per_query_ns, 0.1);
         state.counters["ns_p10"] = p10;
-        state.counters["ns_median"] = quantile(per_query_ns, 0.5);
+        state.counters["ns_median"] = bench::quantile(per_query_ns, 0.5);
         if (c.kind == ModelKind::g) {
           const auto known = g_p10->find(surface.name);  // with repetitions: the least disturbed one
           (*g_p10)[surface.name] = known == g_p10->end() ? p10 : std::min(known->second, p10);
@@ -131,21 +111,11 @@ void register_eval() {
             if (reference[k] > 0.0) worst = std::max(worst, std::fabs(value[k] - reference[k]) / reference[k]);
           state.counters["max_rel_err"] = worst;
         }
-      })
-          ->Iterations(3 * kQueries / kBatch)
-          ->Unit(benchmark::kMicrosecond)
-          ->ComputeStatistics("min", [](const std::vector<double>& v) { return *std::min_element(v.begin(), v.end()); });
+      }), 3 * kQueries / kBatch);
     }
   }
 }
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  register_eval();
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
-}
+int main(int argc, char** argv) { return bench::run_main(argc, argv, register_eval); }

@@ -234,8 +234,9 @@ class Bench {
     add_lut_row(ModelKind::mbk, s, LutLayout::kernel, {2, 2, 2}, KernelAngular::closed_form);
     add_lut_row(ModelKind::bk_modified, s, LutLayout::kernel, {2, 2, 2}, KernelAngular::closed_form);
     add_lut_row(ModelKind::mbk_fg, s, LutLayout::kernel, {2, 2, 2}, KernelAngular::closed_form);  // G/S at lookup
-    // Three-channel lookups (Lut::lookup_all: coordinates once, no acos/atan2 calls).
+    // Three-channel lookups (LutSampler: coordinates once, no acos/atan2 calls), every layout.
     add_rgb_lookup_row(s, LutLayout::rusinkiewicz, std::array<int, 3>{n, n, n});
+    add_rgb_lookup_row(s, LutLayout::merl, libbrdf::kMerlShape);
     add_rgb_lookup_row(s, LutLayout::kernel, libbrdf::default_resolution(LutLayout::kernel), KernelAngular::table);
     add_rgb_lookup_row(s, LutLayout::kernel, {2, 2, 2}, KernelAngular::closed_form);
   }
@@ -402,22 +403,24 @@ class Bench {
     request.resolution = shape;
     request.error_samples = 2000;
     request.kernel_angular = angular;
-    const libbrdf::Lut lut = libbrdf::bake(request);
-    Row row{"lut3", "mbk", s.name, "3-channel lookups (lookup_all)" + kernel_variant(layout, angular), std::string(libbrdf::layout_name(layout)),
+    const libbrdf::LutSampler sampler(libbrdf::bake(request));
+    const libbrdf::Lut& lut = sampler.lut();
+    Row row{"lut3", "mbk", s.name, "3-channel lookups (LutSampler)" + kernel_variant(layout, angular), std::string(libbrdf::layout_name(layout)),
             libbrdf::shape_text(lut.shape, lut.layout)};
     row.nodes = double(lut.nodes_per_channel());
     row.bytes = table_bytes(lut);
-    const Evaluator green = [&lut](const ScatterGeometry& g) {
+    const Evaluator green = [&sampler](const ScatterGeometry& g) {
       double v[3];
-      lut.lookup_all(g, v);
+      sampler.lookup_all(&g, 1, v);
       return v[1];
     };
     fill_errors(row, values_on(full_, green), ref.values);
-    // Timed through the batch API (libbrdf/batch.h) on one thread, as a renderer would call it.
+    // Timed through LutSampler (lut.h: channel-interleaved nodes for the trilinear layouts, the
+    // values of lookup_all_batch) on one thread, as a renderer would call it for RGB.
     std::vector<double> out(full_.geometries.size() * 3);
     row.evals_per_s = rate_per_second(
         [&] {
-          libbrdf::lookup_all_batch(lut, full_.geometries.data(), full_.geometries.size(), out.data());
+          sampler.lookup_all(full_.geometries.data(), full_.geometries.size(), out.data());
           return full_.geometries.size();
         },
         min_seconds_);

@@ -269,15 +269,42 @@ void detail::lookup_span(const Lut& lut, const ScatterGeometry* geos, const Tabl
   detail::trilinear_span(trilinear_view(lut), angles, count, first_channel, channel_count, values);
 }
 
-void detail::lookup_all_span(const Lut& lut, const ScatterGeometry* geos, std::size_t count, double* values) {
+namespace {
+// Every channel at `count` geometries, a block at a time: the block's table coordinates, then its
+// lookups (trilinear ones from `interleaved` where given: LutSampler).
+void lookup_all_blocks(const Lut& lut, const float* interleaved, const ScatterGeometry* geos, std::size_t count, double* values) {
   constexpr std::size_t kBlock = 256;
-  TableAngles angles[kBlock];
+  detail::TableAngles angles[kBlock];
   const int channels = lut.channels();
+  detail::TrilinearView view{};
+  if (interleaved) view = trilinear_view(lut), view.interleaved = interleaved, view.node_floats = channels;
   for (std::size_t begin = 0; begin < count; begin += kBlock) {
     const std::size_t n = std::min(kBlock, count - begin);
-    table_angles_for(lut, geos + begin, n, angles);
-    lookup_span(lut, geos + begin, angles, n, 0, channels, values + begin * channels);
+    detail::table_angles_for(lut, geos + begin, n, angles);
+    if (interleaved) detail::trilinear_span(view, angles, n, 0, channels, values + begin * channels);
+    else detail::lookup_span(lut, geos + begin, angles, n, 0, channels, values + begin * channels);
   }
+}
+}  // namespace
+
+void detail::lookup_all_span(const Lut& lut, const ScatterGeometry* geos, std::size_t count, double* values) {
+  lookup_all_blocks(lut, nullptr, geos, count, values);
+}
+
+LutSampler::LutSampler(Lut lut) : lut_(std::move(lut)) {
+  detail::check_lut_consistency(lut_, "LutSampler");
+  const int channels = lut_.channels();
+  const bool trilinear = lut_.layout == LutLayout::rusinkiewicz || lut_.layout == LutLayout::merl;
+  if (!trilinear || channels < 2 || channels > detail::kInterleavedNodeFloats) return;
+  const std::size_t nodes = lut_.nodes_per_channel(), stride = static_cast<std::size_t>(channels);
+  // Padding: a lookup loads kInterleavedNodeFloats floats from a node's first channel.
+  interleaved_.assign(nodes * stride + detail::kInterleavedNodeFloats, 0.0f);
+  for (int c = 0; c < channels; ++c)
+    for (std::size_t i = 0; i < nodes; ++i) interleaved_[stride * i + c] = lut_.values[c * nodes + i];
+}
+
+void LutSampler::lookup_all(const ScatterGeometry* geometries, std::size_t count, double* values) const {
+  lookup_all_blocks(lut_, interleaved_.empty() ? nullptr : interleaved_.data(), geometries, count, values);
 }
 
 bool detail::kernel_angular_all_closed(ModelKind model, KernelAngular angular) {

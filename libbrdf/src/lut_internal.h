@@ -31,12 +31,19 @@ void table_angles_for(const Lut& lut, const ScatterGeometry* geos, std::size_t c
 // A rusinkiewicz or MERL table as its trilinear lookups see it (lut.cpp builds it from the Lut):
 // channel c's node (i0, i1, i2) is values[c * nodes + i0 * n12 + i1 * n2 + i2]; index positions
 // are sqrt(theta_h / (pi/2)) scale0 (the square map, lut.h), theta_d scale1, phi_d scale2.
+// Or, channel-interleaved (LutSampler): node (i0, i1, i2)'s channel c is
+// interleaved[node_floats * (i0 * n12 + i1 * n2 + i2) + c], its channels side by side (node_floats
+// = the table's channels, 2 to kInterleavedNodeFloats), followed by kInterleavedNodeFloats floats
+// of padding.
 struct TrilinearView {
   const float* values;
   std::size_t nodes, n12;  // nodes per channel; stride of the theta_h axis
   int n0, n1, n2;          // nodes per axis (n2: the phi_d axis, stride 1)
   double scale0, scale1, scale2;
+  const float* interleaved = nullptr;  // when set, values is not read
+  int node_floats = 0;
 };
+inline constexpr int kInterleavedNodeFloats = 4;  // channels of an interleaved table, at most
 // Trilinear values of channels [first, first + channel_count) at `count` queries:
 // values[k * channel_count + c] (SIMD, one query per lane: trilinear_simd.cpp).
 void trilinear_span(const TrilinearView& table, const TableAngles* angles, std::size_t count, int first_channel, int channel_count,

@@ -1,6 +1,7 @@
 // Baked tables: axis mappings, bake + measured error, --target-error, files, cancellation.
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
+#include <hwy/targets.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -258,6 +259,62 @@ TEST(Lut, BatchLookupIsTheDocumentedTrilinearFormula) {
     }
     std::cout << "[ measured ] batch lookup against the trilinear formula: largest difference / allowed " << worst << "\n";
   }
+}
+
+// LutSampler (channel-interleaved nodes for the trilinear layouts) against lookup_all_batch (planar
+// nodes), on every Highway target this CPU runs: the same values to the bit, for 1-4 channels,
+// every layout (the kernel and slice layouts and 1 channel take lookup_all_batch's path), a count
+// that leaves partial vectors and chunks, and grazing geometries.
+TEST(Lut, SamplerGivesTheBatchLookupsBitForBit) {
+  struct Case {
+    LutLayout layout;
+    std::vector<double> wavelengths;
+  };
+  const Case cases[] = {{LutLayout::rusinkiewicz, {0.65, 0.55, 0.45}}, {LutLayout::rusinkiewicz, {0.55}},
+                        {LutLayout::rusinkiewicz, {0.65, 0.45}},       {LutLayout::rusinkiewicz, {0.7, 0.6, 0.5, 0.4}},
+                        {LutLayout::merl, {0.65, 0.55, 0.45}},         {LutLayout::kernel, {0.65, 0.55, 0.45}}};
+  std::vector<ScatterGeometry> geos;
+  for (const ScatterAngles& a : random_geometries(1001, 89.9, 9)) geos.push_back(make_scatter_geometry(a));
+  geos.push_back(make_scatter_geometry_degrees(0.0, 0.0, 0.0));
+  geos.push_back(make_scatter_geometry_degrees(89.99, 89.99, 180.0));
+  geos.push_back(make_scatter_geometry_degrees(85.0, 30.0, 0.0));
+  int targets_run = 0;
+  for (const std::int64_t target : hwy::SupportedAndGeneratedTargets()) {
+    SCOPED_TRACE(hwy::TargetName(target));
+    hwy::SetSupportedTargetsForTest(target);
+    ++targets_run;
+    for (const Case& c : cases) {
+      SCOPED_TRACE(std::string(layout_name(c.layout)) + " x" + std::to_string(c.wavelengths.size()));
+      BakeRequest r = request_for(ModelKind::mbk, 0.1, 2.0, c.wavelengths);
+      r.layout = c.layout;
+      if (c.layout == LutLayout::rusinkiewicz) r.resolution = std::array<int, 3>{13, 11, 9};
+      r.error_samples = 100;
+      const Lut lut = bake(r);
+      const LutSampler sampler(lut);
+      const std::size_t channels = c.wavelengths.size();
+      std::vector<double> planar(channels * geos.size()), interleaved(channels * geos.size(), -1.0);
+      lookup_all_batch(lut, geos.data(), geos.size(), planar.data());
+      sampler.lookup_all(geos.data(), geos.size(), interleaved.data());
+      for (std::size_t k = 0; k < planar.size(); ++k) {
+        ASSERT_TRUE(std::isfinite(interleaved[k])) << k;
+        ASSERT_EQ(interleaved[k], planar[k]) << "query " << k / channels << " channel " << k % channels;
+      }
+      sampler.lookup_all(geos.data() + 7, 1, interleaved.data());  // one query: a partial chunk and vector
+      for (std::size_t ch = 0; ch < channels; ++ch) EXPECT_EQ(interleaved[ch], planar[7 * channels + ch]);
+    }
+  }
+  hwy::SetSupportedTargetsForTest(0);
+  EXPECT_GE(targets_run, 1);
+  std::cout << "[ measured ] LutSampler = lookup_all_batch bit for bit on " << targets_run << " Highway targets\n";
+}
+
+TEST(Lut, SamplerRejectsAnInconsistentTable) {
+  BakeRequest r = request_for(ModelKind::mbk, 0.1, 2.0, {0.65, 0.55, 0.45});
+  r.resolution = std::array<int, 3>{9, 9, 9};
+  r.error_samples = 100;
+  Lut lut = bake(r);
+  lut.values.pop_back();
+  EXPECT_THROW(LutSampler{lut}, LutFileError);
 }
 
 // ---------------------------------------------------------------------------------------------
