@@ -1,5 +1,5 @@
-// Three-channel table lookups (lookup_all_batch, libbrdf/batch.h: what a renderer or `brdf eval
-// --lut` calls) of every layout, one thread: gold mbk at 0.65 / 0.55 / 0.45 um on the issue-9
+// Three-channel table lookups (LutSampler, lut.h, and lookup_all_batch, batch.h: what a renderer
+// calls for RGB) of every layout, one thread: gold mbk at 0.65 / 0.55 / 0.45 um on the issue-9
 // surfaces (sigma_s = 0.005 / 0.1 / 0.5 um, l_c = 2 um), over 1e6 random real geometries (uniform
 // in the rusinkiewicz index space, both polar angles <= 85 deg: random_table_geometries).
 //
@@ -37,8 +37,8 @@ namespace {
 using namespace libbrdf;
 
 constexpr std::size_t kQueries = 1000000, kBatch = 4000, kErrorQueries = 20000;
-// Batches per phase of one path: the two paths' tables would evict each other's lines if they
-// alternated batch by batch (both fit the last-level cache, not together), which no user sees.
+// Batches per phase of one path. Alternated batch by batch, the two paths evicted each other's
+// table lines, which no user sees: 90^3 took 52-56 ns per lookup there against 31-35 ns alone.
 constexpr std::size_t kPhase = 50;
 constexpr std::array<double, 3> kWavelengthsUm{0.65, 0.55, 0.45};
 

@@ -263,8 +263,8 @@ TEST(Lut, BatchLookupIsTheDocumentedTrilinearFormula) {
 
 // LutSampler (channel-interleaved nodes for the trilinear layouts) against lookup_all_batch (planar
 // nodes), on every Highway target this CPU runs: the same values to the bit, for 1-4 channels,
-// every layout (the kernel and slice layouts and 1 channel take lookup_all_batch's path), a count
-// that leaves partial vectors and chunks, and grazing geometries.
+// rusinkiewicz, MERL and kernel (the kernel layout and 1 channel take lookup_all_batch's path), a
+// count that leaves partial vectors and chunks, and grazing geometries.
 TEST(Lut, SamplerGivesTheBatchLookupsBitForBit) {
   struct Case {
     LutLayout layout;
@@ -278,6 +278,9 @@ TEST(Lut, SamplerGivesTheBatchLookupsBitForBit) {
   geos.push_back(make_scatter_geometry_degrees(0.0, 0.0, 0.0));
   geos.push_back(make_scatter_geometry_degrees(89.99, 89.99, 180.0));
   geos.push_back(make_scatter_geometry_degrees(85.0, 30.0, 0.0));
+  struct RestoreTargets {  // also when an assertion leaves the loop
+    ~RestoreTargets() { hwy::SetSupportedTargetsForTest(0); }
+  } restore;
   int targets_run = 0;
   for (const std::int64_t target : hwy::SupportedAndGeneratedTargets()) {
     SCOPED_TRACE(hwy::TargetName(target));
@@ -303,7 +306,6 @@ TEST(Lut, SamplerGivesTheBatchLookupsBitForBit) {
       for (std::size_t ch = 0; ch < channels; ++ch) EXPECT_EQ(interleaved[ch], planar[7 * channels + ch]);
     }
   }
-  hwy::SetSupportedTargetsForTest(0);
   EXPECT_GE(targets_run, 1);
   std::cout << "[ measured ] LutSampler = lookup_all_batch bit for bit on " << targets_run << " Highway targets\n";
 }
