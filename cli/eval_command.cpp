@@ -36,31 +36,42 @@ double process_cpu_seconds() {
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
-// A baked table (OpenEXR or MERL binary) at the queries: channel `channel`, interpolated.
+// --timing's line on stderr.
+void report_timing(double setup_seconds, double evaluation_seconds, std::size_t count) {
+  std::cerr << "brdf eval: set-up " << setup_seconds << " s CPU; " << count << " evaluations " << evaluation_seconds << " s CPU ("
+            << 1e9 * evaluation_seconds / static_cast<double>(count) << " ns each)\n";
+}
+
+// A baked table (OpenEXR or MERL binary) at the queries: channel `channel`, interpolated, through
+// the batch API (libbrdf/batch.h: lookup_batch, as the Python module's Lut; in parallel). Set-up is
+// reading the file. A query lookup_batch rejects (a slice table's off-slice geometry, eq. 5) is
+// reported at its CSV line.
 int evaluate_table(const EvalOptions& o, const std::vector<Query>& queries) {
   if (!o.model.model.empty()) throw libbrdf::InvalidArgument("lut", "give either --model or --lut, not both");
+  const double setup_start = process_cpu_seconds();
   libbrdf::Lut lut;
   try {
     lut = libbrdf::read_lut_file(o.lut);
   } catch (const libbrdf::LutFileError& e) {
     throw libbrdf::InvalidArgument("lut", e.what());
   }
+  const double setup_seconds = process_cpu_seconds() - setup_start;
   if (o.channel < 0 || o.channel >= lut.channels())
     throw libbrdf::InvalidArgument("channel", "must be in [0, " + std::to_string(lut.channels() - 1) + "] (got " +
                                                   std::to_string(o.channel) + ")");
-  // A slice holds only the geometries with cos 2theta_d = L.V (eq. 5): other queries are errors.
-  double cos_lv = 0.0;
-  if (lut.layout == libbrdf::LutLayout::slice) {
-    const libbrdf::Direction l = lut.light, v = lut.view;
-    cos_lv = (l.x * v.x + l.y * v.y + l.z * v.z) / std::sqrt((l.x * l.x + l.y * l.y + l.z * l.z) * (v.x * v.x + v.y * v.y + v.z * v.z));
+  std::vector<libbrdf::ScatterAngles> angles(queries.size());
+  for (std::size_t k = 0; k < queries.size(); ++k)
+    angles[k] = libbrdf::scatter_angles_from_degrees(queries[k].theta_i_deg, queries[k].theta_s_deg, queries[k].phi_s_deg);
+  std::vector<double> values(queries.size());
+  const double evaluation_start = process_cpu_seconds();
+  try {
+    libbrdf::lookup_batch(lut, o.channel, angles.data(), angles.size(), values.data());
+  } catch (const libbrdf::InvalidQuery& e) {
+    throw libbrdf::InvalidArgument(e.parameter(), queries[e.index()].origin() + ": " + e.reason());
   }
-  write_evaluations(std::cout, queries, [&](const libbrdf::ScatterAngles& a) {
-    const libbrdf::ScatterGeometry geo = libbrdf::make_scatter_geometry(a);
-    if (lut.layout == libbrdf::LutLayout::slice && std::abs(geo.cos_2theta_d - cos_lv) > 1e-6)
-      throw libbrdf::InvalidArgument("phi_s", "not a geometry of this slice table: cos 2theta_d = " + std::to_string(geo.cos_2theta_d) +
-                                                  ", the table's L.V = " + std::to_string(cos_lv) + " (eq. 5)");
-    return lut.lookup(o.channel, geo);
-  });
+  if (o.timing) report_timing(setup_seconds, process_cpu_seconds() - evaluation_start, values.size());
+  std::size_t next = 0;  // write_evaluations visits the queries in order
+  write_evaluations(std::cout, queries, [&](const libbrdf::ScatterAngles&) { return values[next++]; });
   return 0;
 }
 }  // namespace
@@ -75,7 +86,7 @@ void register_eval(CLI::App& app, ActionTable& actions) {
   command->add_option("--queries", options->queries, "CSV file of theta_i,theta_s,phi_s lines, or - for stdin");
   command->add_flag("--timing", options->timing,
                     "Print to stderr the CPU seconds of the model's set-up (K tables, and the thread pool's start "
-                    "for a parallel batch) and of the evaluations, without the CSV input and output");
+                    "for a parallel batch; with --lut reading the table) and of the evaluations, without the CSV input and output");
   actions.emplace_back(command, [options]() {
     if (!options->lut.empty()) {
       const std::vector<Query> queries = read_queries(options->at, options->queries);
@@ -110,11 +121,7 @@ void register_eval(CLI::App& app, ActionTable& actions) {
     } catch (const libbrdf::InvalidQuery& e) {
       throw libbrdf::InvalidArgument(e.parameter(), queries[e.index()].origin() + ": " + e.reason());
     }
-    if (options->timing) {
-      const double seconds = process_cpu_seconds() - evaluation_start;
-      std::cerr << "brdf eval: set-up " << setup_seconds << " s CPU; " << values.size() << " evaluations " << seconds
-                << " s CPU (" << 1e9 * seconds / static_cast<double>(values.size()) << " ns each)\n";
-    }
+    if (options->timing) report_timing(setup_seconds, process_cpu_seconds() - evaluation_start, values.size());
     std::size_t next = 0;  // write_evaluations visits the queries in order
     write_evaluations(std::cout, queries, [&](const libbrdf::ScatterAngles&) { return values[next++]; });
     return 0;

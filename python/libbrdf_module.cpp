@@ -227,23 +227,9 @@ py::dict parameters_dict(const PyModel& m) {
 // --- Lut ----------------------------------------------------------------------------------------
 
 py::object lut_lookup(const libbrdf::Lut& lut, py::handle theta_i, py::handle theta_s, py::handle phi_s, int channel) {
-  // A slice holds only the geometries with cos 2theta_d = L.V (eq. 5), as `brdf eval --lut` checks.
-  double cos_lv = 0.0;
-  const bool slice = lut.layout == libbrdf::LutLayout::slice;
-  if (slice) {
-    const libbrdf::Direction l = lut.light, v = lut.view;
-    cos_lv = (l.x * v.x + l.y * v.y + l.z * v.z) / std::sqrt((l.x * l.x + l.y * l.y + l.z * l.z) * (v.x * v.x + v.y * v.y + v.z * v.z));
-  }
+  // lookup_batch also rejects geometries off a slice table's slice (eq. 5), as `brdf eval --lut`.
   return over_angles(theta_i, theta_s, phi_s, [&](const libbrdf::ScatterAngles* angles, std::size_t count, double* out) {
     libbrdf::lookup_batch(lut, channel, angles, count, out);
-    if (!slice) return;
-    for (std::size_t k = 0; k < count; ++k) {
-      const double c = libbrdf::make_scatter_geometry(angles[k]).cos_2theta_d;
-      if (std::abs(c - cos_lv) > 1e-6)
-        throw libbrdf::InvalidArgument("phi_s", "not a geometry of this slice table at query " + std::to_string(k) +
-                                                    ": cos 2theta_d = " + std::to_string(c) + ", the table's L.V = " +
-                                                    std::to_string(cos_lv) + " (eq. 5)");
-    }
   });
 }
 

@@ -132,10 +132,27 @@ void lookup_all_batch(const Lut& lut, const ScatterGeometry* geometries, std::si
   detail::lookup_all_span(lut, geometries, count, values);
 }
 
+namespace {
+// A slice holds only the geometries with cos 2theta_d = L.V (eq. 5; lut.h): throws InvalidQuery at
+// the first other one (serially, before any lookup, so that the index is the first).
+void validate_slice_geometries(const Lut& lut, const ScatterAngles* angles, std::size_t count) {
+  const Direction l = lut.light, v = lut.view;
+  const double cos_lv = (l.x * v.x + l.y * v.y + l.z * v.z) / std::sqrt((l.x * l.x + l.y * l.y + l.z * l.z) * (v.x * v.x + v.y * v.y + v.z * v.z));
+  for (std::size_t k = 0; k < count; ++k) {
+    const double cos_2theta_d = make_scatter_geometry(angles[k]).cos_2theta_d;
+    if (std::abs(cos_2theta_d - cos_lv) > 1e-6)
+      throw InvalidQuery(InvalidArgument("phi_s", "not a geometry of this slice table: cos 2theta_d = " + std::to_string(cos_2theta_d) +
+                                                      ", the table's L.V = " + std::to_string(cos_lv) + " (eq. 5)"),
+                         k);
+  }
+}
+}  // namespace
+
 void lookup_batch(const Lut& lut, int channel, const ScatterAngles* angles, std::size_t count, double* values) {
   if (channel < 0 || channel >= lut.channels())
     throw InvalidArgument("channel", "must be in [0, " + std::to_string(lut.channels() - 1) + "] (got " + std::to_string(channel) + ")");
   validate_angles(angles, count);
+  if (lut.layout == LutLayout::slice) validate_slice_geometries(lut, angles, count);
   for_each_chunk(count, [&](std::size_t begin, std::size_t end) {
     std::vector<ScatterGeometry> geos(end - begin);
     std::vector<detail::TableAngles> table(end - begin);

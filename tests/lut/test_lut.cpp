@@ -310,6 +310,35 @@ TEST(Lut, SamplerGivesTheBatchLookupsBitForBit) {
   std::cout << "[ measured ] LutSampler = lookup_all_batch bit for bit on " << targets_run << " Highway targets\n";
 }
 
+// lookup_batch on a slice table: geometries of the slice (cos 2theta_d = L.V, eq. 5: here the
+// in-plane pair whose half vector is the normal's bisector of L and V) answer as lut.lookup; the
+// first geometry off the slice is rejected with its index, before anything is looked up.
+TEST(Lut, BatchLookupOfASliceRejectsGeometriesOffTheSlice) {
+  BakeRequest r = request_for(ModelKind::mbk, 0.1, 2.0);
+  r.layout = LutLayout::slice;
+  r.light = {0.3, 0.0, 1.0};
+  r.view = {-0.3, 0.0, 1.0};  // L.V = (1 - 0.09) / 1.09: theta_i = theta_s = atan(0.3), phi_s = 180 deg
+  r.resolution = std::array<int, 3>{32, 16, 1};
+  r.error_samples = 100;
+  const Lut lut = bake(r);
+  const double t = std::atan(0.3);
+  const ScatterAngles on{t, t, kPi}, off{0.2, 0.7, kPi};
+  double value = 0.0;
+  lookup_batch(lut, 0, &on, 1, &value);
+  EXPECT_EQ(value, lut.lookup(0, make_scatter_geometry(on)));
+  const ScatterAngles queries[3] = {on, off, off};
+  double values[3] = {-1.0, -1.0, -1.0};
+  try {
+    lookup_batch(lut, 0, queries, 3, values);
+    FAIL() << "an off-slice geometry was looked up";
+  } catch (const InvalidQuery& e) {
+    EXPECT_EQ(e.index(), 1u);
+    EXPECT_EQ(e.parameter(), "phi_s");
+    EXPECT_NE(std::string(e.what()).find("eq. 5"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(values[0], -1.0);  // nothing written
+}
+
 TEST(Lut, SamplerRejectsAnInconsistentTable) {
   BakeRequest r = request_for(ModelKind::mbk, 0.1, 2.0, {0.65, 0.55, 0.45});
   r.resolution = std::array<int, 3>{9, 9, 9};

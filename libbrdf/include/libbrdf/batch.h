@@ -61,7 +61,9 @@ void evaluate_directions_batch(const Model& model, const double* to_light, const
 // lookups of one table, LutSampler (lut.h) gives the same values faster (channel-interleaved nodes).
 void lookup_all_batch(const Lut& lut, const ScatterGeometry* geometries, std::size_t count, double* values);
 
-// Table lookups: values[k] = lut.lookup(channel, geometry of angles[k]). Same validation.
+// Table lookups: values[k] = lut.lookup(channel, geometry of angles[k]). Same validation; a slice
+// table also rejects (InvalidQuery, parameter phi_s) a geometry off its slice (cos 2theta_d = L.V
+// within 1e-6, eq. 5). What `brdf eval --lut` and the Python module's Lut call.
 void lookup_batch(const Lut& lut, int channel, const ScatterAngles* angles, std::size_t count, double* values);
 
 }  // namespace libbrdf
