@@ -6,6 +6,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "libbrdf/batch.h"
 #include "libbrdf/error.h"
 #include "libbrdf/beckmann_kirchhoff.h"
 #include "libbrdf/kernel_table.h"
@@ -53,7 +54,8 @@ std::array<int, 3> target_error_start_resolution(LutLayout layout) {
 
 HalfDifferenceAngles half_difference_angles(const ScatterGeometry& geo) {
   detail::TableAngles angles;  // MERL's half-vector frame, computed once for lookups and this (table_angles_simd.cpp)
-  detail::table_angles(&geo, 1, &angles);
+  if (detail::table_angles(&geo, 1, &angles) == 0)
+    throw InvalidArgument("geometry", "a field of the ScatterGeometry is not finite");
   return {angles.theta_h, angles.theta_d, angles.phi_d};
 }
 
@@ -266,10 +268,15 @@ void kernel_span(const Lut& lut, const ScatterGeometry* geos, const detail::Tabl
 }
 }  // namespace
 
-void detail::table_angles_for(const Lut& lut, const ScatterGeometry* geos, std::size_t count, TableAngles* out) {
+
+void detail::table_angles_for(const Lut& lut, const ScatterGeometry* geos, std::size_t count, TableAngles* out,
+                              std::size_t first_index) {
   // The closed form's table holds 1 (kernel_span): no half/difference angles are read.
-  if (lut.layout == LutLayout::kernel && lut.kernel_angular == KernelAngular::closed_form) table_theta_i(geos, count, out);
-  else table_angles(geos, count, out);
+  std::size_t bad = lut.layout == LutLayout::kernel && lut.kernel_angular == KernelAngular::closed_form
+                        ? table_theta_i(geos, count, out)
+                        : table_angles(geos, count, out);
+  if (lut.layout == LutLayout::kernel) bad = first_non_finite(geos, bad);  // Sigma, Qbar and F read every field
+  if (bad < count) throw InvalidQuery(InvalidArgument("geometry", "a field of the ScatterGeometry is not finite"), first_index + bad);
 }
 
 void detail::lookup_span(const Lut& lut, const ScatterGeometry* geos, const TableAngles* angles, std::size_t count,
@@ -297,7 +304,7 @@ void lookup_all_blocks(const Lut& lut, const float* interleaved, const ScatterGe
   if (interleaved) view = trilinear_view(lut), view.interleaved = interleaved, view.node_floats = channels;
   for (std::size_t begin = 0; begin < count; begin += kBlock) {
     const std::size_t n = std::min(kBlock, count - begin);
-    detail::table_angles_for(lut, geos + begin, n, angles);
+    detail::table_angles_for(lut, geos + begin, n, angles, begin);
     if (interleaved) detail::trilinear_span(view, angles, n, 0, channels, values + begin * channels);
     else detail::lookup_span(lut, geos + begin, angles, n, 0, channels, values + begin * channels);
   }

@@ -1,4 +1,6 @@
 #pragma once
+
+#include <cmath>
 // Internal helpers shared by the LUT sources (lut.cpp, bake.cpp, lut_exr.cpp, merl_binary.cpp,
 // lut_metadata.cpp). Not installed.
 #include <array>
@@ -21,13 +23,28 @@ std::array<double, 3> lut_axis_spans(LutLayout layout, const std::array<int, 3>&
 struct TableAngles {
   double theta_h, theta_d, phi_d, theta_i;
 };
-void table_angles(const ScatterGeometry* geos, std::size_t count, TableAngles* out);
+// Both return the index of the first geometry that is not finite (geometry_finite) where a sine
+// or cosine they read is not (out is then incomplete), or count.
+std::size_t table_angles(const ScatterGeometry* geos, std::size_t count, TableAngles* out);
 // theta_i alone (the same bits as table_angles'), the other three angles NaN.
-void table_theta_i(const ScatterGeometry* geos, std::size_t count, TableAngles* out);
+std::size_t table_theta_i(const ScatterGeometry* geos, std::size_t count, TableAngles* out);
+// The index of the first geometry of the span with a non-finite field, or count (SIMD).
+std::size_t first_non_finite(const ScatterGeometry* geos, std::size_t count);
+// Every field of a ScatterGeometry is finite (so it is from make_scatter_geometry; a hand-filled
+// record may hold anything).
+inline bool geometry_finite(const ScatterGeometry& g) {
+  return std::isfinite(g.cos_theta_i) && std::isfinite(g.sin_theta_i) && std::isfinite(g.cos_theta_s) &&
+         std::isfinite(g.sin_theta_s) && std::isfinite(g.cos_phi_s) && std::isfinite(g.sin_phi_s) &&
+         std::isfinite(g.cos_2theta_d) && std::isfinite(g.cos_theta_d) && std::isfinite(g.cos_theta_h) && std::isfinite(g.eta_r2);
+}
 // The angles a lookup of `lut` reads (lut.cpp): all four, or theta_i alone for the kernel layout's
 // closed form, whose lookups need theta_i only (K's side table): 3-channel kernel lookups spent
 // ~15% of their time on the other three angles.
-void table_angles_for(const Lut& lut, const ScatterGeometry* geos, std::size_t count, TableAngles* out);
+// Throws InvalidQuery (batch.h; index first_index + k, parameter "geometry") at the first geometry
+// with a non-finite field the lookup reads (the kernel layout reads them all), instead of looking
+// up a wrong node or value.
+void table_angles_for(const Lut& lut, const ScatterGeometry* geos, std::size_t count, TableAngles* out,
+                      std::size_t first_index = 0);
 // A rusinkiewicz or MERL table as its trilinear lookups see it (lut.cpp builds it from the Lut):
 // channel c's node (i0, i1, i2) is values[c * nodes + i0 * n12 + i1 * n2 + i2]; index positions
 // are sqrt(theta_h / (pi/2)) scale0 (the square map, lut.h), theta_d scale1, phi_d scale2.

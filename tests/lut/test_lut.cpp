@@ -13,9 +13,11 @@
 #include <filesystem>
 #include <functional>
 #include <iostream>
+#include <limits>
 #include <fstream>
 #include <random>
 #include <string>
+#include <utility>
 
 #include "libbrdf/batch.h"
 #include "libbrdf/error.h"
@@ -337,6 +339,58 @@ TEST(Lut, BatchLookupOfASliceRejectsGeometriesOffTheSlice) {
     EXPECT_NE(std::string(e.what()).find("eq. 5"), std::string::npos) << e.what();
   }
   EXPECT_EQ(values[0], -1.0);  // nothing written
+}
+
+// A hand-filled ScatterGeometry with a non-finite field is refused with its index, by every
+// lookup of every layout, instead of being washed into some node (a finite, wrong value: what the
+// lookups returned before). The trilinear layouts read the sines and cosines; the kernel layout
+// reads every field.
+TEST(Lut, LookupsRefuseNonFiniteGeometries) {
+  struct Case {
+    LutLayout layout;
+    KernelAngular angular;
+  };
+  const Case cases[] = {{LutLayout::rusinkiewicz, KernelAngular::table},
+                        {LutLayout::merl, KernelAngular::table},
+                        {LutLayout::kernel, KernelAngular::closed_form},
+                        {LutLayout::kernel, KernelAngular::table}};
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN(), kInf = std::numeric_limits<double>::infinity();
+  std::vector<ScatterGeometry> geos;
+  for (const ScatterAngles& a : random_geometries(600, 80.0, 13)) geos.push_back(make_scatter_geometry(a));
+  for (const Case& c : cases) {
+    SCOPED_TRACE(std::string(layout_name(c.layout)) + (c.angular == KernelAngular::table ? " table" : " closed form"));
+    BakeRequest r = request_for(ModelKind::mbk, 0.1, 2.0, {0.65, 0.55, 0.45});
+    r.layout = c.layout;
+    r.kernel_angular = c.angular;
+    if (c.layout == LutLayout::rusinkiewicz) r.resolution = std::array<int, 3>{13, 11, 9};
+    if (c.layout == LutLayout::kernel && c.angular == KernelAngular::table) r.resolution = std::array<int, 3>{12, 12, 12};
+    r.error_samples = 100;
+    const Lut lut = bake(r);
+    const LutSampler sampler(lut);
+    std::vector<std::pair<double ScatterGeometry::*, double>> bad_fields = {{&ScatterGeometry::cos_theta_i, kNaN},
+                                                                            {&ScatterGeometry::sin_phi_s, kInf},
+                                                                            {&ScatterGeometry::cos_theta_s, -kInf}};
+    if (c.layout == LutLayout::kernel) bad_fields.push_back({&ScatterGeometry::eta_r2, kNaN});
+    for (const auto& [field, bad] : bad_fields) {
+      std::vector<ScatterGeometry> with_bad = geos;
+      with_bad[300].*field = bad;  // past the first block of 256
+      with_bad[450].*field = bad;
+      std::vector<double> values(3 * geos.size());
+      auto refused_at = [&](const std::function<void()>& lookup) {
+        try {
+          lookup();
+        } catch (const InvalidQuery& e) {
+          EXPECT_EQ(e.parameter(), "geometry");
+          return static_cast<long>(e.index());
+        }
+        return -1L;
+      };
+      EXPECT_EQ(refused_at([&] { lookup_all_batch(lut, with_bad.data(), with_bad.size(), values.data()); }), 300);
+      EXPECT_EQ(refused_at([&] { sampler.lookup_all(with_bad.data(), with_bad.size(), values.data()); }), 300);
+      EXPECT_EQ(refused_at([&] { lut.lookup(1, with_bad[300]); }), 0);
+      EXPECT_NO_THROW(lut.lookup(1, with_bad[299]));
+    }
+  }
 }
 
 TEST(Lut, SamplerRejectsAnInconsistentTable) {
