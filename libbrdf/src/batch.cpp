@@ -4,6 +4,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -147,6 +148,21 @@ void validate_slice_geometries(const Lut& lut, const ScatterAngles* angles, std:
   }
 }
 }  // namespace
+
+void lookup_all_batch(const LutSampler& sampler, const ScatterAngles* angles, std::size_t count, double* values) {
+  const Lut& lut = sampler.lut();
+  validate_angles(angles, count);
+  if (lut.layout == LutLayout::slice) validate_slice_geometries(lut, angles, count);
+  const std::size_t channels = static_cast<std::size_t>(lut.channels());
+  for_each_chunk(count, [&](std::size_t begin, std::size_t end) {
+    ScatterGeometry geos[kBlock];
+    for (std::size_t block = begin; block < end; block += kBlock) {
+      const std::size_t n = std::min(kBlock, end - block);
+      make_scatter_geometries(angles + block, n, geos);  // validated above
+      sampler.lookup_all(geos, n, values + block * channels);
+    }
+  });
+}
 
 void lookup_batch(const Lut& lut, int channel, const ScatterAngles* angles, std::size_t count, double* values) {
   if (channel < 0 || channel >= lut.channels())

@@ -131,5 +131,23 @@ with tempfile.TemporaryDirectory() as tmp:
         report_mismatch(f"lut channel {channel}", ours, theirs, q)
         checks.check(np.array_equal(ours, theirs), f"Lut lookups, channel {channel}: bit-identical with brdf eval --lut")
         compared += q.shape[0]
+    # LutSampler: every channel at once ([..., channel]), the same values; above the parallel
+    # threshold too, and broadcast (a scalar theta_i against arrays).
+    sampler = libbrdf.LutSampler(from_file)
+    for queries in (q, big):
+        both = sampler(queries[:, 0], queries[:, 1], queries[:, 2])
+        checks.check(both.shape == (queries.shape[0], 2), f"LutSampler shape {both.shape}")
+        for channel in (0, 1):
+            one = from_file(queries[:, 0], queries[:, 1], queries[:, 2], channel=channel)
+            checks.check(np.array_equal(both[:, channel], one), f"LutSampler channel {channel}, {queries.shape[0]} points: bit-identical with Lut")
+        compared += 2 * queries.shape[0]
+    grid = sampler(30.0, q[:5, 1], q[:5, 2])
+    checks.check(grid.shape == (5, 2) and np.array_equal(grid[:, 1], from_file(30.0, q[:5, 1], q[:5, 2], channel=1)),
+                 "LutSampler broadcasts a scalar theta_i")
+    try:
+        sampler(91.0, 10.0, 0.0)
+        checks.check(False, "LutSampler refuses theta_i = 91 deg")
+    except libbrdf.InvalidArgument as e:
+        checks.check(e.parameter == "theta_i", f"LutSampler refuses theta_i = 91 deg: {e}")
 
 checks.finish(f"ok: {compared} values through libbrdf and brdf, all bit-identical")

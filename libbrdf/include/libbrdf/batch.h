@@ -61,6 +61,12 @@ void evaluate_directions_batch(const Model& model, const double* to_light, const
 // lookups of one table, LutSampler (lut.h) gives the same values faster (channel-interleaved nodes).
 void lookup_all_batch(const Lut& lut, const ScatterGeometry* geometries, std::size_t count, double* values);
 
+// Every channel of a prepared table (LutSampler, lut.h) at angles: values[k * channels + c], the
+// values of lookup_batch for each channel, bit for bit; the same validation (a slice table's
+// off-slice geometries refused too), in parallel for large batches. What the Python module's
+// LutSampler calls.
+void lookup_all_batch(const LutSampler& sampler, const ScatterAngles* angles, std::size_t count, double* values);
+
 // Table lookups: values[k] = lut.lookup(channel, geometry of angles[k]). Same validation; a slice
 // table also rejects (InvalidQuery, parameter phi_s) a geometry off its slice (cos 2theta_d = L.V
 // within 1e-6, eq. 5). What `brdf eval --lut` and the Python module's Lut call.
