@@ -268,7 +268,6 @@ void kernel_span(const Lut& lut, const ScatterGeometry* geos, const detail::Tabl
 }
 }  // namespace
 
-
 void detail::table_angles_for(const Lut& lut, const ScatterGeometry* geos, std::size_t count, TableAngles* out,
                               std::size_t first_index) {
   // The closed form's table holds 1 (kernel_span): no half/difference angles are read.

@@ -56,7 +56,9 @@ void evaluate_directions_batch(const Model& model, const double* to_light, const
                                double* values);
 
 // Every channel of a table at already-derived geometries: values[k * lut.channels() + c]. The
-// table coordinates of a chunk come from one vector arctangent call (no acos/atan2 per query).
+// table coordinates of a chunk come from one vector arctangent call (no acos/atan2 per query). A
+// hand-filled geometry with a non-finite field the lookup reads throws InvalidQuery (parameter
+// "geometry", its index); make_scatter_geometry's never do.
 // Runs on the calling thread only (callers split larger work themselves, e.g. in chunks). For many
 // lookups of one table, LutSampler (lut.h) gives the same values faster (channel-interleaved nodes).
 void lookup_all_batch(const Lut& lut, const ScatterGeometry* geometries, std::size_t count, double* values);

@@ -196,7 +196,9 @@ class LutSampler {
   // Throws LutFileError (image_file.h) if the table is not self-consistent (shape, sizes, finite values).
   explicit LutSampler(Lut lut);
   const Lut& lut() const { return lut_; }
-  // values[k * lut().channels() + c] at geometries[k], on the calling thread.
+  // values[k * lut().channels() + c] at geometries[k], on the calling thread; a geometry with a
+  // non-finite field it reads is refused as by lookup_all_batch (batch.h: InvalidQuery). At
+  // angles, validated and in parallel: lookup_all_batch(sampler, angles, ...).
   void lookup_all(const ScatterGeometry* geometries, std::size_t count, double* values) const;
 
  private:
