@@ -65,6 +65,11 @@ inline constexpr int kInterleavedNodeFloats = 4;  // channels of an interleaved 
 // values[k * channel_count + c] (SIMD, one query per lane: trilinear_simd.cpp).
 void trilinear_span(const TrilinearView& table, const TableAngles* angles, std::size_t count, int first_channel, int channel_count,
                     double* values);
+// Kernel layout, the P~ table (kernel_angular_simd.cpp): out[c] = sum over the 16 rows r and the
+// 4 taps m of row_weights[r] phi_weights[m] values[c channel_stride + rows[r] + m], for channels
+// c < channel_count: a Catmull-Rom stencil whose phi_d taps are adjacent (not clamped).
+void catmull_rom_rows(const float* values, std::size_t channel_stride, int channel_count, const std::size_t* rows,
+                      const double* row_weights, const double* phi_weights, double* out);
 // Kernel layout: the closed-form part of the angular factor P of a channel (lut.h), evaluated at
 // lookup; the table holds P~ = P / K / that. F(theta_d) times F_bk^2 of eq. 26 (bk), 1/S of eq. 28
 // (bk-modified), G/S (mbk-fg in the closed form), 1 (mbk-fg and mbk with the table form); Stover's
