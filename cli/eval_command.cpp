@@ -70,8 +70,7 @@ int evaluate_table(const EvalOptions& o, const std::vector<Query>& queries) {
     throw libbrdf::InvalidArgument(e.parameter(), queries[e.index()].origin() + ": " + e.reason());
   }
   if (o.timing) report_timing(setup_seconds, process_cpu_seconds() - evaluation_start, values.size());
-  std::size_t next = 0;  // write_evaluations visits the queries in order
-  write_evaluations(std::cout, queries, [&](const libbrdf::ScatterAngles&) { return values[next++]; });
+  write_evaluations(std::cout, queries, values);
   return 0;
 }
 }  // namespace
@@ -122,8 +121,7 @@ void register_eval(CLI::App& app, ActionTable& actions) {
       throw libbrdf::InvalidArgument(e.parameter(), queries[e.index()].origin() + ": " + e.reason());
     }
     if (options->timing) report_timing(setup_seconds, process_cpu_seconds() - evaluation_start, values.size());
-    std::size_t next = 0;  // write_evaluations visits the queries in order
-    write_evaluations(std::cout, queries, [&](const libbrdf::ScatterAngles&) { return values[next++]; });
+    write_evaluations(std::cout, queries, values);
     return 0;
   });
 }

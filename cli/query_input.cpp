@@ -149,22 +149,13 @@ std::vector<Query> read_queries(const std::vector<std::string>& at_values, const
   return queries;
 }
 
-void write_evaluations(std::ostream& out, const std::vector<Query>& queries,
-                       const std::function<double(const libbrdf::ScatterAngles&)>& evaluate) {
-  // Evaluate everything first so that an error leaves no partial table on stdout.
-  std::vector<double> values(queries.size());
-  for (std::size_t i = 0; i < queries.size(); ++i) {
-    const Query& q = queries[i];
-    try {
-      values[i] = evaluate(libbrdf::scatter_angles_from_degrees(q.theta_i_deg, q.theta_s_deg, q.phi_s_deg));
-      // No NaN or Inf ever reaches the output: a model that overflows at a query is an error there.
-      if (!std::isfinite(values[i]))
-        throw InvalidArgument("value", "not a finite number at this query (the model overflows here; e.g. mbk-rough, "
-                                       "eq. 15, grows like 1/g as g -> 0)");
-    } catch (const InvalidArgument& e) {
-      throw InvalidArgument(e.parameter(), q.origin() + ": " + std::string(e.what()).substr(e.parameter().size() + 2));
-    }
-  }
+void write_evaluations(std::ostream& out, const std::vector<Query>& queries, const std::vector<double>& values) {
+  // Every value checked first so that an error leaves no partial table on stdout. No NaN or Inf
+  // ever reaches the output: a model that overflows at a query is an error there.
+  for (std::size_t i = 0; i < queries.size(); ++i)
+    if (!std::isfinite(values[i]))
+      throw InvalidArgument("value", queries[i].origin() + ": not a finite number at this query (the model overflows here; "
+                                     "e.g. mbk-rough, eq. 15, grows like 1/g as g -> 0)");
   out << "theta_i,theta_s,phi_s,value\n";
   // Rows into a block, written when nearly full. Each number in the fewest digits that read back
   // as the same double (std::to_chars without a precision: exact, as %.17g, in ~55 ns instead of

@@ -3,12 +3,9 @@
 // (degrees) from a file or stdin; output CSV "theta_i,theta_s,phi_s,value", each number in the
 // fewest digits that read back as the same double.
 #include <cstddef>
-#include <functional>
 #include <iosfwd>
 #include <string>
 #include <vector>
-
-#include "libbrdf/geometry.h"
 
 namespace brdf_cli {
 
@@ -29,9 +26,9 @@ inline constexpr std::size_t kMaxQueryLineLength = 4096;
 // or on a directory.
 std::vector<Query> read_queries(const std::vector<std::string>& at_values, const std::string& queries_source);
 
-// Evaluates each query (angles validated per query, errors name the query) and writes the CSV
-// (std::to_chars, shortest round trip).
-void write_evaluations(std::ostream& out, const std::vector<Query>& queries,
-                       const std::function<double(const libbrdf::ScatterAngles&)>& evaluate);
+// Writes the CSV of the queries and their values (values[k] at queries[k], from the batch API;
+// std::to_chars, shortest round trip). A non-finite value is an error naming its query's line,
+// raised before anything is written.
+void write_evaluations(std::ostream& out, const std::vector<Query>& queries, const std::vector<double>& values);
 
 }  // namespace brdf_cli
