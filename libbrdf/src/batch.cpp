@@ -37,14 +37,22 @@ void for_each_chunk(std::size_t count, const Body& body) {
 // the L1/L2 cache (Model::evaluate_many works in blocks of the same size).
 constexpr std::size_t kBlock = 256;
 
-// values[k] = model at angles[k] for k < count (validated), block by block.
-void evaluate_validated(const Model& model, const ScatterAngles* angles, std::size_t count, double* values) {
+// body(geos, n, first): the geometries of the validated angles[first, first + n), for every block
+// of [0, count).
+template <typename Body>
+void for_each_geometry_block(const ScatterAngles* angles, std::size_t count, const Body& body) {
   ScatterGeometry geos[kBlock];
   for (std::size_t begin = 0; begin < count; begin += kBlock) {
     const std::size_t n = std::min(kBlock, count - begin);
     make_scatter_geometries(angles + begin, n, geos);
-    model.evaluate_many(geos, n, values + begin);
+    body(geos, n, begin);
   }
+}
+
+// values[k] = model at angles[k] for k < count (validated), block by block.
+void evaluate_validated(const Model& model, const ScatterAngles* angles, std::size_t count, double* values) {
+  for_each_geometry_block(angles, count,
+                          [&](const ScatterGeometry* geos, std::size_t n, std::size_t first) { model.evaluate_many(geos, n, values + first); });
 }
 
 bool query_valid(const ScatterAngles& a) {
@@ -155,12 +163,9 @@ void lookup_all_batch(const LutSampler& sampler, const ScatterAngles* angles, st
   if (lut.layout == LutLayout::slice) validate_slice_geometries(lut, angles, count);
   const std::size_t channels = static_cast<std::size_t>(lut.channels());
   for_each_chunk(count, [&](std::size_t begin, std::size_t end) {
-    ScatterGeometry geos[kBlock];
-    for (std::size_t block = begin; block < end; block += kBlock) {
-      const std::size_t n = std::min(kBlock, end - block);
-      make_scatter_geometries(angles + block, n, geos);  // validated above
-      sampler.lookup_all(geos, n, values + block * channels);
-    }
+    for_each_geometry_block(angles + begin, end - begin, [&](const ScatterGeometry* geos, std::size_t n, std::size_t first) {
+      sampler.lookup_all(geos, n, values + (begin + first) * channels);
+    });
   });
 }
 
@@ -170,11 +175,11 @@ void lookup_batch(const Lut& lut, int channel, const ScatterAngles* angles, std:
   validate_angles(angles, count);
   if (lut.layout == LutLayout::slice) validate_slice_geometries(lut, angles, count);
   for_each_chunk(count, [&](std::size_t begin, std::size_t end) {
-    std::vector<ScatterGeometry> geos(end - begin);
-    std::vector<detail::TableAngles> table(end - begin);
-    make_scatter_geometries(angles + begin, end - begin, geos.data());  // validated above
-    detail::table_angles_for(lut, geos.data(), geos.size(), table.data());
-    detail::lookup_span(lut, geos.data(), table.data(), geos.size(), channel, 1, values + begin);
+    for_each_geometry_block(angles + begin, end - begin, [&](const ScatterGeometry* geos, std::size_t n, std::size_t first) {
+      detail::TableAngles table[kBlock];
+      detail::table_angles_for(lut, geos, n, table, begin + first);
+      detail::lookup_span(lut, geos, table, n, channel, 1, values + begin + first);
+    });
   });
 }
 
