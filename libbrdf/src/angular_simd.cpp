@@ -11,7 +11,6 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <vector>
 
 #include "angular_simd.h"
 #include "geometry_records-inl.h"  // GeoField, Field, LoadRecords, StoreRecords
@@ -21,24 +20,30 @@ namespace libbrdf::detail {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-// out[k] = kernel(geos + block start)[lane] over the span: full blocks, then the last block
-// shifted back to end at `count` (it recomputes a few values identically), or a padded copy when
-// the span is shorter than one vector.
+// out[k] = kernel(geos + block start)[lane] over the span: full blocks, the last one shifted back
+// to end at `count` (it recomputes a few values identically), or a padded copy when the span is
+// shorter than one vector. The kernel is called (and inlined) at one place only: inlined at two,
+// the compiler contracted their multiply-adds differently, and F(theta_d) of one query alone
+// differed in its last bits from the same query's in a longer span (7320 of 20000 random
+// geometries, gold at 0.55 um).
 template <class D, class Kernel>
 HWY_INLINE void ForEachBlock(D d, const ScatterGeometry* geos, std::size_t count, double* out, const Kernel& kernel) {
   const std::size_t n = hn::Lanes(d);
   if (count == 0) return;
-  if (count < n) {
-    std::vector<ScatterGeometry> pad(n, geos[count - 1]);
-    std::vector<double> values(n);
-    for (std::size_t k = 0; k < count; ++k) pad[k] = geos[k];
-    hn::StoreU(kernel(pad.data()), d, values.data());
-    for (std::size_t k = 0; k < count; ++k) out[k] = values[k];
-    return;
+  constexpr std::size_t kMaxLanes = HWY_MAX_BYTES / sizeof(double);
+  const bool short_span = count < n;
+  ScatterGeometry pad[kMaxLanes];
+  double padded_out[kMaxLanes];
+  if (short_span)
+    for (std::size_t k = 0; k < n; ++k) pad[k] = geos[std::min(k, count - 1)];  // the last geometry repeated
+  const ScatterGeometry* in = short_span ? pad : geos;
+  double* to = short_span ? padded_out : out;
+  const std::size_t span = short_span ? n : count;
+  for (std::size_t k = 0; k < span; k += n) {
+    const std::size_t at = std::min(k, span - n);
+    hn::StoreU(kernel(in + at), d, to + at);
   }
-  std::size_t k = 0;
-  for (; k + n <= count; k += n) hn::StoreU(kernel(geos + k), d, out + k);
-  if (k < count) hn::StoreU(kernel(geos + count - n), d, out + count - n);
+  if (short_span) std::copy(padded_out, padded_out + count, out);
 }
 
 // Principal square root of a + i b for b >= 0 (Im eps = 2 n kappa >= 0), as std::sqrt, in two

@@ -9,3 +9,4 @@ add_libbrdf_test(libbrdf_core_tests
   ${CMAKE_CURRENT_LIST_DIR}/test_materials.cpp
   ${CMAKE_CURRENT_LIST_DIR}/test_hostile_input.cpp
   ${CMAKE_CURRENT_LIST_DIR}/test_kernel_table.cpp)
+target_link_libraries(libbrdf_core_tests PRIVATE hwy::hwy)  # hwy: the per-target checks

@@ -118,11 +118,15 @@ def queries(opts, wavelengths, n_random, n_lobe, rng):
 def dig(brdf, model, opts, lam, ch, lut_file, query):
     """Factors at one query: which part differs (K from the table vs --model k, the ASF at 1e-6 vs 0)."""
     at = ["--at", ",".join(f"{x:.17g}" for x in query)]
+    # The factors (k, q, asf) refuse mbk-fg's own options (the CLI's one-line error): dropped, with their values.
+    facet_only = {"--g-term", "--sigma-g", "--sigma-g-mapping"}
+    factor_opts = [o for i, o in enumerate(opts) if o not in facet_only and (i == 0 or opts[i - 1] not in facet_only)]
     out = {}
     for name, extra in [("k", []), ("q", []), ("asf", ["--tolerance", "0"]), ("asf@1e-6", ["--tolerance", "1e-6"]),
                         (model + "@1e-6", ["--tolerance", "1e-6"]), (model + "@0", ["--tolerance", "0"])]:
         mname = name.split("@")[0]
-        out[name] = float(read_values(run([brdf, "eval", "--model", mname, *opts, "--wavelength", str(lam), *extra, *at]))[0])
+        given = opts if mname == model else factor_opts
+        out[name] = float(read_values(run([brdf, "eval", "--model", mname, *given, "--wavelength", str(lam), *extra, *at]))[0])
     out["lut"] = float(read_values(run([brdf, "eval", "--lut", lut_file, "--channel", str(ch), *at]))[0])
     return out
 

@@ -52,9 +52,9 @@
 //                c = pi^2 (l_c/lambda)^2 eta_r^2 from the per-channel sigma_s/lambda and
 //                l_c/lambda (Lut::kernel_sigma_over_lambda, kernel_lc_over_lambda; file header
 //                attributes libbrdf:kernel_sigma_over_lambda and libbrdf:kernel_lc_over_lambda).
-//                Sigma outside the kernel table's domain: closed forms or the series at the
-//                table's certified error. All the sharpness of the lobe is in Sigma, so a small
-//                P table holds polished surfaces as well as rough ones.
+//                Sigma at kKernelLayoutSigmaTolerance (below): the kernel table's coarse tier,
+//                outside its domain closed forms or the series. All the sharpness of the lobe
+//                is in Sigma, so a small P table holds polished surfaces as well as rough ones.
 //                Lut::kernel_angular (header attribute libbrdf:kernel_angular, absent = table)
 //                says which part of P is closed form: `table` as above; `closed-form` (the
 //                default of `brdf bake --layout kernel`) evaluates all of P at lookup (mbk:
@@ -102,6 +102,13 @@
 namespace libbrdf {
 
 enum class LutLayout { rusinkiewicz, merl, slice, kernel };
+// The relative tolerance of the kernel layout's Sigma(g, c) at lookup (asf_auto): the kernel
+// table's coarse tier (certified 1e-4, 3.5 MB; kernel_table.h), a tenth of the layout's 1e-3
+// promise. With the fine tier (1e-6, 41 MB, over which a lookup's queries spread) 3-channel
+// closed-form lookups were 1.16x slower (bench_lookup, one CPU, two alternated runs: 37.1-38.7 ->
+// 32.8-33.8 ns); the layout's max error over kernel_layout_audit.py's 22 materials 3.0e-5 -> 3.4e-5,
+// the bake's own on README's surfaces <= 1.2e-5 -> <= 1.5e-5.
+inline constexpr double kKernelLayoutSigmaTolerance = 1e-4;
 // Kernel layout: which part of the angular factor P is tabulated (see "kernel" above).
 enum class KernelAngular { table, closed_form };
 std::string_view layout_name(LutLayout layout);

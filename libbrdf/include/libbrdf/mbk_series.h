@@ -95,10 +95,15 @@ inline AsfScales asf_scales(const Surface& surface) {
   return s;
 }
 // Inline: the batch paths compute them per query. Bit for bit roughness_g's g (its k is
-// (2 pi sigma/lambda) (cos ti + cos ts), multiplied in that order).
+// (2 pi sigma/lambda) (cos ti + cos ts), multiplied in that order). From the geometry's two
+// quantities that g and c depend on, cos_sum = cos ti + cos ts and eta_r^2 (the kernel layout's
+// lookups derive them once for every channel), or from the geometry.
+inline AsfArguments asf_arguments(const AsfScales& scales, double cos_sum, double eta_r2) {
+  const double k = scales.g_scale * cos_sum;
+  return AsfArguments{k * k, scales.c_scale * eta_r2, scales.prefactor};
+}
 inline AsfArguments asf_arguments(const AsfScales& scales, const ScatterGeometry& geo) {
-  const double k = scales.g_scale * (geo.cos_theta_i + geo.cos_theta_s);
-  return AsfArguments{k * k, scales.c_scale * geo.eta_r2, scales.prefactor};
+  return asf_arguments(scales, geo.cos_theta_i + geo.cos_theta_s, geo.eta_r2);
 }
 inline AsfArguments asf_arguments(const Surface& surface, const ScatterGeometry& geo) {
   return asf_arguments(asf_scales(surface), geo);
