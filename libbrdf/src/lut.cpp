@@ -251,6 +251,7 @@ void kernel_span(const Lut& lut, const ScatterGeometry* geos, const detail::Tabl
   // (asf_auto_geometries per channel read them three times: 27.7-28.2 -> 27.2-27.7 ns per 3-channel
   // closed-form lookup, cached, six alternated runs; the same bits).
   double cos_sum[kBlock], eta_r2[kBlock];
+  double k_node[kBlock], k_offset[kBlock];  // K's position (k_positions_span) for tables of k_nodes nodes
   // The closed form's table holds P~ = 1 at every node (checked when read: check_lut_consistency):
   // nothing to interpolate, and the product of the other factors is the value (1 x it, bit for bit).
   const bool ones = lut.kernel_angular == KernelAngular::closed_form;
@@ -261,6 +262,7 @@ void kernel_span(const Lut& lut, const ScatterGeometry* geos, const detail::Tabl
       for (std::size_t k = 0; k < n; ++k)
         kernel_angular_factors(lut, angles[begin + k], first_channel, channel_count, values + (begin + k) * channel_count);
     for (std::size_t k = 0; k < n; ++k) cos_sum[k] = block[k].cos_theta_i + block[k].cos_theta_s, eta_r2[k] = block[k].eta_r2;
+    int k_nodes = -1;  // the K table size k_node, k_offset were found for
     for (int ch = 0; ch < channel_count; ++ch) {
       const int channel = first_channel + ch;
       // The surface in units of the wavelength: what g (eq. 12) and c depend on.
@@ -272,10 +274,15 @@ void kernel_span(const Lut& lut, const ScatterGeometry* geos, const detail::Tabl
       asf_auto_batch(g, c, n, scales.prefactor, kKernelLayoutSigmaTolerance, SeriesOptions{}, asf);
       detail::kernel_closed_form_span(lut, channel, block, n, closed);
       const std::vector<float>& k_table = lut.renormalization[channel];
-      const int k_nodes = static_cast<int>(k_table.size());
-      if (!detail::k_factors_span(k_table.data(), k_nodes, angles + begin, closed, asf, n, factor))  // a theta_i beyond [0, 90] deg:
-        for (std::size_t k = 0; k < n; ++k)  // the scalar formula, which names it
-          factor[k] = linear_at(k_table, linear_position(k_nodes, angles[begin + k].theta_i)) * closed[k] * asf[k];
+      if (static_cast<int>(k_table.size()) != k_nodes) {  // once per block (every channel's table has as many nodes from bake)
+        k_nodes = static_cast<int>(k_table.size());
+        if (!detail::k_positions_span(k_nodes, angles + begin, n, k_node, k_offset))  // a theta_i beyond [0, 90] deg:
+          for (std::size_t k = 0; k < n; ++k) {  // the scalar formula, which names it
+            const LinearPosition p = linear_position(k_nodes, angles[begin + k].theta_i);
+            k_node[k] = p.i, k_offset[k] = p.t;
+          }
+      }
+      detail::k_factors_span(k_table.data(), k_node, k_offset, closed, asf, n, factor);
       double* out = values + begin * channel_count + ch;
       if (ones)
         for (std::size_t k = 0; k < n; ++k) out[k * channel_count] = factor[k];

@@ -65,10 +65,12 @@ inline constexpr int kInterleavedNodeFloats = 4;  // channels of an interleaved 
 // values[k * channel_count + c] (SIMD, one query per lane: trilinear_simd.cpp).
 void trilinear_span(const TrilinearView& table, const TableAngles* angles, std::size_t count, int first_channel, int channel_count,
                     double* values);
-// Kernel layout, one channel (trilinear_simd.cpp): factor[k] = K(angles[k].theta_i) closed[k] asf[k],
-// K linearly interpolated in its table of `nodes` (>= 2) floats over [0, pi/2] in SIMD lanes, bit for
-// bit lut.cpp's scalar linear_at. False (factor unspecified) if some theta_i lies outside [0, pi/2].
-bool k_factors_span(const float* k_table, int nodes, const TableAngles* angles, const double* closed, const double* asf, std::size_t count,
+// Kernel layout (trilinear_simd.cpp): K(theta_i) linearly interpolated in a table of `nodes` (>= 2)
+// floats over [0, pi/2] in SIMD lanes, bit for bit lut.cpp's scalar linear_at. k_positions_span:
+// each angles[k].theta_i's node index and offset (false, the arrays unspecified, if some theta_i
+// lies outside [0, pi/2]); k_factors_span: factor[k] = K closed[k] asf[k] from them.
+bool k_positions_span(int nodes, const TableAngles* angles, std::size_t count, double* node, double* offset);
+void k_factors_span(const float* k_table, const double* node, const double* offset, const double* closed, const double* asf, std::size_t count,
                     double* factor);
 // Kernel layout, the P~ table (kernel_angular_simd.cpp): out[c] = sum over the 16 rows r and the
 // 4 taps m of row_weights[r] phi_weights[m] values[c channel_stride + rows[r] + m], for channels

@@ -353,6 +353,39 @@ TEST(Lut, BatchLookupOfASliceRejectsGeometriesOffTheSlice) {
 // lookup of every layout, instead of being washed into some node (a finite, wrong value: what the
 // lookups returned before). The trilinear layouts read the sines and cosines; the kernel layout
 // reads every field.
+// The kernel layout's K(theta_i) is tabulated over [0, 90] deg: a hand-made geometry with the light
+// below the horizon (theta_i = 100 deg) is refused by name, in a later block and in a partial
+// vector, by the batch and the sampler (K's position in lanes hands it to the scalar formula,
+// which names it), never read outside K's table.
+TEST(Lut, KernelLookupsRefuseIncidenceBelowTheHorizon) {
+  std::vector<ScatterGeometry> geos;
+  for (const ScatterAngles& a : random_geometries(300, 80.0, 17)) geos.push_back(make_scatter_geometry(a));
+  geos[261] = make_scatter_geometry(ScatterAngles{80.0 * kPi / 180.0, 0.3, 1.0});  // block 2, vector 33 of 38
+  geos[261].cos_theta_i = -geos[261].cos_theta_i;  // theta_i = 100 deg (make_scatter_geometry refuses it)
+  for (KernelAngular angular : {KernelAngular::closed_form, KernelAngular::table}) {
+    BakeRequest r = request_for(ModelKind::mbk, 0.1, 2.0, {0.65, 0.55, 0.45});
+    r.layout = LutLayout::kernel;
+    r.kernel_angular = angular;
+    if (angular == KernelAngular::table) r.resolution = std::array<int, 3>{12, 12, 12};
+    r.error_samples = 100;
+    const Lut lut = bake(r);
+    const LutSampler sampler(lut);
+    std::vector<double> values(3 * geos.size());
+    for (const auto& lookup : std::vector<std::function<void()>>{
+             [&] { lookup_all_batch(lut, geos.data(), geos.size(), values.data()); },
+             [&] { sampler.lookup_all(geos.data(), geos.size(), values.data()); },
+             [&] { lut.lookup(2, geos[261]); }}) {
+      try {
+        lookup();
+        ADD_FAILURE() << "theta_i = 100 deg accepted";
+      } catch (const InvalidArgument& e) {
+        EXPECT_EQ(e.parameter(), "theta_i");
+      }
+    }
+    EXPECT_NO_THROW(lookup_all_batch(lut, geos.data(), 261, values.data()));
+  }
+}
+
 TEST(Lut, LookupsRefuseNonFiniteGeometries) {
   struct Case {
     LutLayout layout;
