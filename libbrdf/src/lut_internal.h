@@ -65,7 +65,7 @@ inline constexpr int kInterleavedNodeFloats = 4;  // channels of an interleaved 
 // values[k * channel_count + c] (SIMD, one query per lane: trilinear_simd.cpp).
 void trilinear_span(const TrilinearView& table, const TableAngles* angles, std::size_t count, int first_channel, int channel_count,
                     double* values);
-// Kernel layout (trilinear_simd.cpp): K(theta_i) linearly interpolated in a table of `nodes` (>= 2)
+// Kernel layout (kernel_k_simd.cpp): K(theta_i) linearly interpolated in a table of `nodes` (>= 2)
 // floats over [0, pi/2] in SIMD lanes, bit for bit lut.cpp's scalar linear_at. k_positions_span:
 // each angles[k].theta_i's node index and offset (false, the arrays unspecified, if some theta_i
 // lies outside [0, pi/2]); k_factors_span: factor[k] = K closed[k] asf[k] from them.

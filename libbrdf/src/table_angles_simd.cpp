@@ -52,12 +52,8 @@ HWY_INLINE bool AllFinite(D d, const V* v, std::size_t count) {
 // The table coordinates of one vector of geometries (records read by transposition), stored
 // interleaved into `lanes` TableAngles. False (nothing stored) if a sine or cosine it reads is not
 // finite: NaN would otherwise be washed into some node by the comparisons (a finite value, wrong).
-// Not inlined (nor ThetaIOfVector): ForEachVector calls it for whole vectors and for the padded
-// remainder, and two inlined copies may be contracted into fused multiply-adds differently (as
-// angular_simd.cpp's ForEachBlock was: a query's bits then depended on its place in the span).
-// No measurable cost (3-channel lookups, bench_lookup, two alternated runs).
 template <class D>
-HWY_NOINLINE bool TableAnglesOfVector(D d, const ScatterGeometry* geos, TableAngles* out) {
+HWY_INLINE bool TableAnglesOfVector(D d, const ScatterGeometry* geos, TableAngles* out) {
   using V = hn::Vec<D>;
   V trig[6];
   LoadRecords(d, geos, 6, trig);
@@ -90,7 +86,7 @@ HWY_NOINLINE bool TableAnglesOfVector(D d, const ScatterGeometry* geos, TableAng
 // theta_i alone (the same arithmetic as TableAnglesOfVector's); the other three angles NaN.
 // False (nothing stored) if sin or cos theta_i is not finite.
 template <class D>
-HWY_NOINLINE bool ThetaIOfVector(D d, const ScatterGeometry* geos, TableAngles* out) {
+HWY_INLINE bool ThetaIOfVector(D d, const ScatterGeometry* geos, TableAngles* out) {
   alignas(64) double theta_i[HWY_MAX_BYTES / sizeof(double)];
   const hn::Vec<D> trig[2] = {Field(d, geos, kSinI), Field(d, geos, kCosI)};
   if (!AllFinite(d, trig, 2)) return false;

@@ -5,7 +5,6 @@
 // with the scalar formula's operations in its order. 3-channel lookups (`lookup_all_batch`, 48^3
 // rusinkiewicz, 10th percentile of 4000-query batches, one CPU): 36.7 -> 24.5 ns per query.
 // LutSampler's channel-interleaved copy is read one query at a time instead (TrilinearInterleavedSpan).
-// The kernel layout's K factor (KFactorsSpan) is the same linear interpolation in 1D.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "trilinear_simd.cpp"
 #include <hwy/foreach_target.h>  // must come before highway.h
@@ -15,29 +14,13 @@
 #include <algorithm>
 #include <cstdint>
 
+#include "lerp_simd-inl.h"  // SplitIndex, Lerp
 #include "lut_internal.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace libbrdf::detail {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
-
-// split_index (lut.cpp) lane by lane: x clamped to [0, nodes - 1], its cell i <= nodes - 2 and
-// the offset t = x - i in it.
-template <class D, class V = hn::Vec<D>>
-HWY_INLINE void SplitIndex(D d, V x, int nodes, V* i, V* t) {
-  x = hn::Min(hn::Max(x, hn::Zero(d)), hn::Set(d, double(nodes - 1)));
-  *i = hn::Min(hn::Floor(x), hn::Set(d, double(std::max(nodes - 2, 0))));
-  *t = hn::Sub(x, *i);
-}
-
-// (1 - t) a + t b, as lut.cpp's lerp: two multiplies and an add, each rounded (this file is compiled
-// with -ffp-contract=off, libbrdf/CMakeLists.txt), so that every target gives the scalar formula's
-// bits: `brdf eval --lut` on 20k queries, rusinkiewicz and MERL tables, md5-identical to the scalar loop.
-template <class V>
-HWY_INLINE V Lerp(V a, V b, V t, V one) {
-  return hn::Add(hn::Mul(hn::Sub(one, t), a), hn::Mul(t, b));
-}
 
 // The cells of one vector of queries: each lane's corner node index (i0 n12 + i1 n2 + i2, exact
 // in a double) and its offsets t0, t1, t2 in the cell.
@@ -178,79 +161,6 @@ void TrilinearSpan(const TrilinearView& table, const TableAngles* angles, std::s
   }
 }
 
-// Kernel layout (lut.cpp: kernel_span): K(theta_i) by linear interpolation in a table of `nodes`
-// floats over theta_i in [0, pi/2], one query per lane, in lut.cpp's linear_position and linear_at
-// operations (-ffp-contract=off): the same bits. First each query's position (node index and
-// offset, shared by the channels whose K tables have as many nodes), then per channel
-// factor[k] = K closed[k] asf[k], the node pair of a lane's cell fetched by one gather as
-// TrilinearSpan's rows. KPositionsSpan returns false at a theta_i outside [0, pi/2], NaN included,
-// for lut.cpp's scalar path to name it. 3-channel closed-form lookups, 8000 cached geometries, one
-// CPU, best of 3000 passes, alternated runs: against the scalar loop (27.2-27.7 ns), 26.4-27.3 ns
-// with the positions found in every channel's pass, 25.0-25.2 ns with them shared (26.2-26.8 in
-// that run); the values md5-identical (every kernel-layout model, both angular forms, 5000 geometries).
-bool KPositionsSpan(int nodes, const TableAngles* angles, std::size_t count, double* node, double* offset) {
-  const hn::ScalableTag<double> d;
-  using V = hn::Vec<decltype(d)>;
-  constexpr std::size_t kMaxLanes = HWY_MAX_BYTES / sizeof(double);
-  const std::size_t n = hn::Lanes(d);
-  const V zero = hn::Zero(d), right_angle = hn::Set(d, 0.5 * kPi), last = hn::Set(d, double(nodes - 1));
-  TableAngles padded[kMaxLanes];
-  alignas(64) double i_out[kMaxLanes], t_out[kMaxLanes];
-  for (std::size_t k = 0; k < count; k += n) {
-    const std::size_t m = std::min(n, count - k);
-    const TableAngles* at = angles + k;
-    if (m < n) {  // the last, partial vector through a padded copy (repeating its last query)
-      for (std::size_t j = 0; j < n; ++j) padded[j] = at[std::min(j, m - 1)];
-      at = padded;
-    }
-    V theta_h, theta_d, phi_d, theta_i;
-    hn::LoadInterleaved4(d, reinterpret_cast<const double*>(at), theta_h, theta_d, phi_d, theta_i);
-    if (!hn::AllTrue(d, hn::And(hn::Ge(theta_i, zero), hn::Le(theta_i, right_angle)))) return false;
-    V i, t;
-    SplitIndex(d, hn::Mul(hn::Div(theta_i, right_angle), last), nodes, &i, &t);
-    if (m == n) {
-      hn::StoreU(i, d, node + k), hn::StoreU(t, d, offset + k);
-    } else {
-      hn::Store(i, d, i_out), hn::Store(t, d, t_out);
-      std::copy(i_out, i_out + m, node + k), std::copy(t_out, t_out + m, offset + k);
-    }
-  }
-  return true;
-}
-
-void KFactorsSpan(const float* k_table, const double* node, const double* offset, const double* closed, const double* asf, std::size_t count,
-                  double* factor) {
-  const hn::ScalableTag<double> d;
-  const hn::RebindToSigned<decltype(d)> di;
-  const hn::RebindToUnsigned<decltype(d)> du;
-  const hn::Rebind<std::uint32_t, decltype(d)> du32;
-  const hn::Rebind<float, decltype(d)> df;
-  using V = hn::Vec<decltype(d)>;
-  constexpr std::size_t kMaxLanes = HWY_MAX_BYTES / sizeof(double);
-  const std::size_t n = hn::Lanes(d);
-  const V one = hn::Set(d, 1.0);
-  alignas(64) double pad[4][kMaxLanes], out[kMaxLanes];
-  for (std::size_t k = 0; k < count; k += n) {
-    const std::size_t m = std::min(n, count - k);
-    const double* in[4] = {node + k, offset + k, closed + k, asf + k};
-    if (m < n)  // the last, partial vector through padded copies (repeating its last query)
-      for (int a = 0; a < 4; ++a) {
-        for (std::size_t j = 0; j < n; ++j) pad[a][j] = in[a][std::min(j, m - 1)];
-        in[a] = pad[a];
-      }
-    const auto pair = hn::GatherOffset(du, reinterpret_cast<const std::uint64_t*>(k_table), hn::ShiftLeft<2>(hn::ConvertTo(di, hn::LoadU(d, in[0]))));
-    const V k_low = hn::PromoteTo(d, hn::BitCast(df, hn::TruncateTo(du32, pair)));
-    const V k_high = hn::PromoteTo(d, hn::BitCast(df, hn::TruncateTo(du32, hn::ShiftRight<32>(pair))));
-    const V value = hn::Mul(hn::Mul(Lerp(k_low, k_high, hn::LoadU(d, in[1]), one), hn::LoadU(d, in[2])), hn::LoadU(d, in[3]));
-    if (m == n) {
-      hn::StoreU(value, d, factor + k);
-    } else {
-      hn::Store(value, d, out);
-      std::copy(out, out + m, factor + k);
-    }
-  }
-}
-
 }  // namespace HWY_NAMESPACE
 }  // namespace libbrdf::detail
 HWY_AFTER_NAMESPACE();
@@ -259,15 +169,6 @@ HWY_AFTER_NAMESPACE();
 namespace libbrdf::detail {
 HWY_EXPORT(TrilinearSpan);
 HWY_EXPORT(TrilinearInterleavedSpan);
-HWY_EXPORT(KPositionsSpan);
-HWY_EXPORT(KFactorsSpan);
-bool k_positions_span(int nodes, const TableAngles* angles, std::size_t count, double* node, double* offset) {
-  return count == 0 || HWY_DYNAMIC_DISPATCH(KPositionsSpan)(nodes, angles, count, node, offset);
-}
-void k_factors_span(const float* k_table, const double* node, const double* offset, const double* closed, const double* asf, std::size_t count,
-                    double* factor) {
-  if (count > 0) HWY_DYNAMIC_DISPATCH(KFactorsSpan)(k_table, node, offset, closed, asf, count, factor);
-}
 void trilinear_span(const TrilinearView& table, const TableAngles* angles, std::size_t count, int first_channel, int channel_count,
                     double* values) {
   if (count == 0) return;

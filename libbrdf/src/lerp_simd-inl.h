@@ -1,0 +1,43 @@
+// Internal, per SIMD target (Google Highway's -inl.h pattern: re-included once per target by
+// foreach_target.h): linear interpolation in lanes with lut.cpp's scalar operations, for the
+// trilinear lookups (trilinear_simd.cpp) and the kernel layout's K (kernel_k_simd.cpp). Both
+// files are compiled with -ffp-contract=off (libbrdf/CMakeLists.txt), so that Lerp's two
+// multiplies and add round as the scalar formula's do.
+#if defined(LIBBRDF_LERP_SIMD_INL_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef LIBBRDF_LERP_SIMD_INL_H_
+#undef LIBBRDF_LERP_SIMD_INL_H_
+#else
+#define LIBBRDF_LERP_SIMD_INL_H_
+#endif
+
+#include <algorithm>
+
+#include <hwy/highway.h>
+
+HWY_BEFORE_NAMESPACE();
+namespace libbrdf::detail {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+// split_index (lut.cpp) lane by lane: x clamped to [0, nodes - 1], its cell i <= nodes - 2 and
+// the offset t = x - i in it.
+template <class D, class V = hn::Vec<D>>
+HWY_INLINE void SplitIndex(D d, V x, int nodes, V* i, V* t) {
+  x = hn::Min(hn::Max(x, hn::Zero(d)), hn::Set(d, double(nodes - 1)));
+  *i = hn::Min(hn::Floor(x), hn::Set(d, double(std::max(nodes - 2, 0))));
+  *t = hn::Sub(x, *i);
+}
+
+// (1 - t) a + t b, as lut.cpp's lerp: two multiplies and an add, each rounded (the including file
+// is compiled with -ffp-contract=off), so that every target gives the scalar formula's
+// bits: `brdf eval --lut` on 20k queries, rusinkiewicz and MERL tables, md5-identical to the scalar loop.
+template <class V>
+HWY_INLINE V Lerp(V a, V b, V t, V one) {
+  return hn::Add(hn::Mul(hn::Sub(one, t), a), hn::Mul(t, b));
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace libbrdf::detail
+HWY_AFTER_NAMESPACE();
+
+#endif  // LIBBRDF_LERP_SIMD_INL_H_
