@@ -38,11 +38,7 @@ bool KPositionsSpan(int nodes, const TableAngles* angles, std::size_t count, dou
   alignas(64) double i_out[kMaxLanes], t_out[kMaxLanes];
   for (std::size_t k = 0; k < count; k += n) {
     const std::size_t m = std::min(n, count - k);
-    const TableAngles* at = angles + k;
-    if (m < n) {  // the last, partial vector through a padded copy (repeating its last query)
-      for (std::size_t j = 0; j < n; ++j) padded[j] = at[std::min(j, m - 1)];
-      at = padded;
-    }
+    const TableAngles* at = VectorItems(d, angles, k, count, padded);
     V theta_h, theta_d, phi_d, theta_i;
     hn::LoadInterleaved4(d, reinterpret_cast<const double*>(at), theta_h, theta_d, phi_d, theta_i);
     if (!hn::AllTrue(d, hn::And(hn::Ge(theta_i, zero), hn::Le(theta_i, right_angle)))) return false;
@@ -62,9 +58,6 @@ void KFactorsSpan(const float* k_table, const double* node, const double* offset
                   double* factor) {
   const hn::ScalableTag<double> d;
   const hn::RebindToSigned<decltype(d)> di;
-  const hn::RebindToUnsigned<decltype(d)> du;
-  const hn::Rebind<std::uint32_t, decltype(d)> du32;
-  const hn::Rebind<float, decltype(d)> df;
   using V = hn::Vec<decltype(d)>;
   constexpr std::size_t kMaxLanes = HWY_MAX_BYTES / sizeof(double);
   const std::size_t n = hn::Lanes(d);
@@ -72,15 +65,10 @@ void KFactorsSpan(const float* k_table, const double* node, const double* offset
   alignas(64) double pad[4][kMaxLanes], out[kMaxLanes];
   for (std::size_t k = 0; k < count; k += n) {
     const std::size_t m = std::min(n, count - k);
-    const double* in[4] = {node + k, offset + k, closed + k, asf + k};
-    if (m < n)  // the last, partial vector through padded copies (repeating its last query)
-      for (int a = 0; a < 4; ++a) {
-        for (std::size_t j = 0; j < n; ++j) pad[a][j] = in[a][std::min(j, m - 1)];
-        in[a] = pad[a];
-      }
-    const auto pair = hn::GatherOffset(du, reinterpret_cast<const std::uint64_t*>(k_table), hn::ShiftLeft<2>(hn::ConvertTo(di, hn::LoadU(d, in[0]))));
-    const V k_low = hn::PromoteTo(d, hn::BitCast(df, hn::TruncateTo(du32, pair)));
-    const V k_high = hn::PromoteTo(d, hn::BitCast(df, hn::TruncateTo(du32, hn::ShiftRight<32>(pair))));
+    const double* in[4] = {node, offset, closed, asf};
+    for (int a = 0; a < 4; ++a) in[a] = VectorItems(d, in[a], k, count, pad[a]);
+    V k_low, k_high;
+    GatherNodePair(d, k_table, hn::ShiftLeft<2>(hn::ConvertTo(di, hn::LoadU(d, in[0]))), &k_low, &k_high);  // floats -> bytes
     const V value = hn::Mul(hn::Mul(Lerp(k_low, k_high, hn::LoadU(d, in[1]), one), hn::LoadU(d, in[2])), hn::LoadU(d, in[3]));
     if (m == n) {
       hn::StoreU(value, d, factor + k);

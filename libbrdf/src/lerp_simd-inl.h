@@ -1,6 +1,7 @@
 // Internal, per SIMD target (Google Highway's -inl.h pattern: re-included once per target by
-// foreach_target.h): linear interpolation in lanes with lut.cpp's scalar operations, for the
-// trilinear lookups (trilinear_simd.cpp) and the kernel layout's K (kernel_k_simd.cpp). Both
+// foreach_target.h): linear interpolation in lanes with lut.cpp's scalar operations, its node pairs
+// fetched by gathers and its partial vectors padded, for the trilinear lookups (trilinear_simd.cpp)
+// and the kernel layout's K (kernel_k_simd.cpp). Both
 // files are compiled with -ffp-contract=off (libbrdf/CMakeLists.txt), so that Lerp's two
 // multiplies and add round as the scalar formula's do.
 #if defined(LIBBRDF_LERP_SIMD_INL_H_) == defined(HWY_TARGET_TOGGLE)
@@ -11,6 +12,8 @@
 #endif
 
 #include <algorithm>
+#include <cstddef>
+#include <cstdint>
 
 #include <hwy/highway.h>
 
@@ -34,6 +37,28 @@ HWY_INLINE void SplitIndex(D d, V x, int nodes, V* i, V* t) {
 template <class V>
 HWY_INLINE V Lerp(V a, V b, V t, V one) {
   return hn::Add(hn::Mul(hn::Sub(one, t), a), hn::Mul(t, b));
+}
+
+// The nodes i and i + 1 of a float table as two double vectors (a lane's pair is one 8-byte gather
+// at its byte offset 4 i; the low half the first node).
+template <class D, class V = hn::Vec<D>>
+HWY_INLINE void GatherNodePair(D d, const float* table, hn::Vec<hn::RebindToSigned<D>> byte_offset, V* first, V* second) {
+  const hn::RebindToUnsigned<D> du;
+  const hn::Rebind<std::uint32_t, D> du32;  // as many lanes, 32 bits each
+  const hn::Rebind<float, D> df;
+  const auto pair = hn::GatherOffset(du, reinterpret_cast<const std::uint64_t*>(table), byte_offset);
+  *first = hn::PromoteTo(d, hn::BitCast(df, hn::TruncateTo(du32, pair)));
+  *second = hn::PromoteTo(d, hn::BitCast(df, hn::TruncateTo(du32, hn::ShiftRight<32>(pair))));
+}
+
+// The queries of the vector from `first` on: `items` itself, or where fewer than a vector's lanes
+// are left, `padded` filled with them and the last one repeated.
+template <class D, class T>
+HWY_INLINE const T* VectorItems(D d, const T* items, std::size_t first, std::size_t count, T* padded) {
+  const std::size_t n = hn::Lanes(d), m = std::min(n, count - first);
+  if (m == n) return items + first;
+  for (std::size_t j = 0; j < n; ++j) padded[j] = items[first + std::min(j, m - 1)];
+  return padded;
 }
 
 }  // namespace HWY_NAMESPACE

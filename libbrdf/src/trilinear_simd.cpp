@@ -121,9 +121,6 @@ void TrilinearSpan(const TrilinearView& table, const TableAngles* angles, std::s
                    double* values) {
   const hn::ScalableTag<double> d;
   const hn::RebindToSigned<decltype(d)> di;
-  const hn::RebindToUnsigned<decltype(d)> du;
-  const hn::Rebind<std::uint32_t, decltype(d)> du32;  // as many lanes, 32 bits each
-  const hn::Rebind<float, decltype(d)> df;
   using V = hn::Vec<decltype(d)>;
   using TI = hn::TFromD<decltype(di)>;
   constexpr std::size_t kMaxLanes = HWY_MAX_BYTES / sizeof(double);
@@ -135,11 +132,7 @@ void TrilinearSpan(const TrilinearView& table, const TableAngles* angles, std::s
   alignas(64) double out[kMaxLanes];
   for (std::size_t k = 0; k < count; k += n) {
     const std::size_t m = std::min(n, count - k);
-    const TableAngles* at = angles + k;
-    if (m < n) {  // the last, partial vector through a padded copy (repeating its last query)
-      for (std::size_t j = 0; j < n; ++j) padded[j] = at[std::min(j, m - 1)];
-      at = padded;
-    }
+    const TableAngles* at = VectorItems(d, angles, k, count, padded);
     V corner, t0, t1, t2;
     LocateCells(d, table, at, &corner, &t0, &t1, &t2);
     const auto corner_bytes = hn::ShiftLeft<2>(hn::ConvertTo(di, corner));  // floats -> bytes
@@ -147,11 +140,8 @@ void TrilinearSpan(const TrilinearView& table, const TableAngles* angles, std::s
       const float* channel = table.values + static_cast<std::size_t>(first_channel + c) * table.nodes;
       V lerp_phi[4];  // along phi_d in rows (i0, i1), (i0, i1 + 1), (i0 + 1, i1), (i0 + 1, i1 + 1)
       for (int r = 0; r < 4; ++r) {
-        // Nodes i2 and i2 + 1 of the row: one 8-byte pair per lane, its low half the first node.
-        const auto pair = hn::GatherOffset(du, reinterpret_cast<const std::uint64_t*>(channel),
-                                           hn::Add(corner_bytes, hn::Set(di, row_bytes[r])));
-        const V a = hn::PromoteTo(d, hn::BitCast(df, hn::TruncateTo(du32, pair)));
-        const V b = hn::PromoteTo(d, hn::BitCast(df, hn::TruncateTo(du32, hn::ShiftRight<32>(pair))));
+        V a, b;  // nodes i2 and i2 + 1 of the row
+        GatherNodePair(d, channel, hn::Add(corner_bytes, hn::Set(di, row_bytes[r])), &a, &b);
         lerp_phi[r] = Lerp(a, b, t2, one);
       }
       const V value = Lerp(Lerp(lerp_phi[0], lerp_phi[1], t1, one), Lerp(lerp_phi[2], lerp_phi[3], t1, one), t0, one);
