@@ -9,7 +9,7 @@
 #include "libbrdf/batch.h"
 #include "libbrdf/error.h"
 #include "libbrdf/beckmann_kirchhoff.h"
-#include "libbrdf/kernel_table.h"
+#include "libbrdf/mbk_series.h"
 #include "libbrdf/microfacet.h"
 #include "angular_simd.h"
 #include "lut_internal.h"

@@ -14,7 +14,7 @@
 #include <algorithm>
 #include <cstdint>
 
-#include "lerp_simd-inl.h"  // SplitIndex, Lerp
+#include "lerp_simd-inl.h"  // SplitIndex, Lerp, GatherNodePair, VectorItems
 #include "lut_internal.h"
 
 HWY_BEFORE_NAMESPACE();

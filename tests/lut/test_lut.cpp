@@ -349,18 +349,14 @@ TEST(Lut, BatchLookupOfASliceRejectsGeometriesOffTheSlice) {
   EXPECT_EQ(values[0], -1.0);  // nothing written
 }
 
-// A hand-filled ScatterGeometry with a non-finite field is refused with its index, by every
-// lookup of every layout, instead of being washed into some node (a finite, wrong value: what the
-// lookups returned before). The trilinear layouts read the sines and cosines; the kernel layout
-// reads every field.
 // The kernel layout's K(theta_i) is tabulated over [0, 90] deg: a hand-made geometry with the light
-// below the horizon (theta_i = 100 deg) is refused by name, in a later block and in a partial
-// vector, by the batch and the sampler (K's position in lanes hands it to the scalar formula,
-// which names it), never read outside K's table.
+// below the horizon (theta_i = 100 deg) is refused by name, in the second block of 256 by the
+// batch and the sampler, and alone (a partial vector) by Lut::lookup: K's position in lanes hands
+// it to the scalar formula, which names it, instead of reading K at 90 deg.
 TEST(Lut, KernelLookupsRefuseIncidenceBelowTheHorizon) {
   std::vector<ScatterGeometry> geos;
   for (const ScatterAngles& a : random_geometries(300, 80.0, 17)) geos.push_back(make_scatter_geometry(a));
-  geos[261] = make_scatter_geometry(ScatterAngles{80.0 * kPi / 180.0, 0.3, 1.0});  // block 2, vector 33 of 38
+  geos[261] = make_scatter_geometry(ScatterAngles{80.0 * kPi / 180.0, 0.3, 1.0});  // the second block
   geos[261].cos_theta_i = -geos[261].cos_theta_i;  // theta_i = 100 deg (make_scatter_geometry refuses it)
   for (KernelAngular angular : {KernelAngular::closed_form, KernelAngular::table}) {
     BakeRequest r = request_for(ModelKind::mbk, 0.1, 2.0, {0.65, 0.55, 0.45});
@@ -386,6 +382,10 @@ TEST(Lut, KernelLookupsRefuseIncidenceBelowTheHorizon) {
   }
 }
 
+// A hand-filled ScatterGeometry with a non-finite field is refused with its index, by every
+// lookup of every layout, instead of being washed into some node (a finite, wrong value: what the
+// lookups returned before). The trilinear layouts read the sines and cosines; the kernel layout
+// reads every field.
 TEST(Lut, LookupsRefuseNonFiniteGeometries) {
   struct Case {
     LutLayout layout;
