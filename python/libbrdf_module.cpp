@@ -145,11 +145,14 @@ std::vector<libbrdf::ScatterAngles> angles_from_degrees(const double* ti, const 
   return angles;
 }
 
-// f(angles, count, out) on the broadcast degree arrays, without the GIL.
+// f(angles, count, out) on the broadcast degree arrays, without the GIL. values_per_query > 0: out
+// holds that many values per query, a trailing axis of the result (LutSampler's channels).
 template <typename Batch>
-py::object over_angles(py::handle theta_i, py::handle theta_s, py::handle phi_s, const Batch& batch) {
+py::object over_angles(py::handle theta_i, py::handle theta_s, py::handle phi_s, const Batch& batch, py::ssize_t values_per_query = 0) {
   const auto a = broadcast({{theta_i, "theta_i"}, {theta_s, "theta_s"}, {phi_s, "phi_s"}});
-  DoubleArray out(shape_of(a[0]));
+  std::vector<py::ssize_t> shape = shape_of(a[0]);
+  if (values_per_query > 0) shape.push_back(values_per_query);
+  DoubleArray out(shape);
   const std::size_t count = static_cast<std::size_t>(a[0].size());
   {
     py::gil_scoped_release release;
@@ -465,17 +468,10 @@ Out-of-domain values raise libbrdf.InvalidArgument (a ValueError) naming the par
                                   "faster for RGB (channel-interleaved nodes for rusinkiewicz and merl). Keeps its own copy.")
       .def(py::init<libbrdf::Lut>(), py::arg("lut"))
       .def("__call__", [](const libbrdf::LutSampler& self, py::handle theta_i, py::handle theta_s, py::handle phi_s) {
-             const auto a = broadcast({{theta_i, "theta_i"}, {theta_s, "theta_s"}, {phi_s, "phi_s"}});
-             std::vector<py::ssize_t> shape = shape_of(a[0]);
-             shape.push_back(self.lut().channels());
-             DoubleArray out(shape);
-             const std::size_t count = static_cast<std::size_t>(a[0].size());
-             {
-               py::gil_scoped_release release;
-               const auto angles = angles_from_degrees(a[0].data(), a[1].data(), a[2].data(), count);
-               libbrdf::lookup_all_batch(self, angles.data(), count, out.mutable_data());
-             }
-             return out;
+             return over_angles(
+                 theta_i, theta_s, phi_s,
+                 [&](const libbrdf::ScatterAngles* angles, std::size_t count, double* out) { libbrdf::lookup_all_batch(self, angles, count, out); },
+                 self.lut().channels());
            }, py::arg("theta_i"), py::arg("theta_s"), py::arg("phi_s"))
       .def_property_readonly("lut", &libbrdf::LutSampler::lut, py::return_value_policy::reference_internal)
       .def("__repr__", [](const libbrdf::LutSampler& self) {

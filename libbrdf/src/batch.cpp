@@ -145,8 +145,7 @@ namespace {
 // A slice holds only the geometries with cos 2theta_d = L.V (eq. 5; lut.h): throws InvalidQuery at
 // the first other one (serially, before any lookup, so that the index is the first).
 void validate_slice_geometries(const Lut& lut, const ScatterAngles* angles, std::size_t count) {
-  const Direction l = lut.light, v = lut.view;
-  const double cos_lv = (l.x * v.x + l.y * v.y + l.z * v.z) / std::sqrt((l.x * l.x + l.y * l.y + l.z * l.z) * (v.x * v.x + v.y * v.y + v.z * v.z));
+  const double cos_lv = detail::slice_cos_2theta_d(lut.light, lut.view);
   for (std::size_t k = 0; k < count; ++k) {
     const double cos_2theta_d = make_scatter_geometry(angles[k]).cos_2theta_d;
     if (std::abs(cos_2theta_d - cos_lv) > 1e-6)

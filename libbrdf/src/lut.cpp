@@ -113,10 +113,12 @@ ScatterAngles angles_at_index(LutLayout layout, const std::array<int, 3>& shape,
 
 }  // namespace detail
 
-double slice_theta_d(const Direction& light, const Direction& view) {
-  const Direction l = detail::normalized(light), v = detail::normalized(view);
-  return 0.5 * std::acos(std::clamp(l.x * v.x + l.y * v.y + l.z * v.z, -1.0, 1.0));  // eq. 5
+double detail::slice_cos_2theta_d(const Direction& light, const Direction& view) {
+  const Direction l = normalized(light), v = normalized(view);
+  return std::clamp(l.x * v.x + l.y * v.y + l.z * v.z, -1.0, 1.0);  // eq. 5
 }
+
+double slice_theta_d(const Direction& light, const Direction& view) { return 0.5 * std::acos(detail::slice_cos_2theta_d(light, view)); }
 
 ScatterAngles lut_node_angles(LutLayout layout, const std::array<int, 3>& shape, int i0, int i1, int i2,
                               const Direction& light, const Direction& view) {

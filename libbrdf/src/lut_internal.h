@@ -1,9 +1,8 @@
 #pragma once
-
-#include <cmath>
 // Internal helpers shared by the LUT sources (lut.cpp, bake.cpp, lut_exr.cpp, merl_binary.cpp,
 // lut_metadata.cpp). Not installed.
 #include <array>
+#include <cmath>
 #include <functional>
 #include <map>
 #include <string>
@@ -97,6 +96,9 @@ inline void lookup_channels(const Lut& lut, const ScatterGeometry& geo, const Ta
 void lookup_all_span(const Lut& lut, const ScatterGeometry* geos, std::size_t count, double* values);
 
 Direction normalized(const Direction& d);
+// L.V of the unit directions of a slice table: the cos 2theta_d every geometry of the slice has
+// (eq. 5), clamped to [-1, 1].
+double slice_cos_2theta_d(const Direction& light, const Direction& view);
 
 // Incident i and scattered s of a half/difference triple (phi_h = 0), from the sines and cosines
 // of theta_h, theta_d, phi_d: i = R_y(theta_h) d with d = (sin td cos pd, sin td sin pd, cos td),

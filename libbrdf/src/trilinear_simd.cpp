@@ -73,11 +73,7 @@ void TrilinearInterleavedSpan(const TrilinearView& table, const TableAngles* ang
     const std::size_t chunk = std::min(kInterleavedChunk, count - k0);
     for (std::size_t k = 0; k < chunk; k += n) {
       const std::size_t m = std::min(n, chunk - k);
-      const TableAngles* a = angles + k0 + k;
-      if (m < n) {  // a partial vector through a padded copy (repeating its last query)
-        for (std::size_t j = 0; j < n; ++j) padded[j] = a[std::min(j, m - 1)];
-        a = padded;
-      }
+      const TableAngles* a = VectorItems(d, angles, k0 + k, k0 + chunk, padded);
       V corner, t0, t1, t2;
       LocateCells(d, table, a, &corner, &t0, &t1, &t2);
       hn::Store(hn::ConvertTo(di, corner), di, at.corner + k);
