@@ -23,8 +23,15 @@ void geometries_from_trig(const double* trig, std::size_t count, ScatterGeometry
 // scatter_trig then geometries_from_trig.
 void scatter_geometries(const ScatterAngles* angles, std::size_t count, ScatterGeometry* geos);
 
-// Qbar = (Q_s + Q_p)/2 of Stover (fresnel.h, stover_q) at each geometry, permittivity eps.
-void stover_q_bar_span(double eps_re, double eps_im, const ScatterGeometry* geos, std::size_t count, double* out);
+// Qbar = (Q_s + Q_p)/2 of Stover (fresnel.h, stover_q) at each geometry for each of `channels`
+// permittivities eps_re[c] + i eps_im[c]: out[c channel_stride + k] for geos[k]. A channel's
+// values are the same bits whatever the other channels are.
+void stover_q_bar_span(const double* eps_re, const double* eps_im, int channels, const ScatterGeometry* geos, std::size_t count,
+                       double* out, std::size_t channel_stride);
+// One permittivity.
+inline void stover_q_bar_span(double eps_re, double eps_im, const ScatterGeometry* geos, std::size_t count, double* out) {
+  stover_q_bar_span(&eps_re, &eps_im, 1, geos, count, out, 0);
+}
 
 // F(theta_d) (fresnel.h, fresnel_reflectance at geos[k].cos_theta_d).
 void fresnel_d_span(double eps_re, double eps_im, const ScatterGeometry* geos, std::size_t count, double* out);

@@ -39,8 +39,12 @@ struct KernelTableView {
 // The kernel table's bicubic Hermite lookup (KernelTable::sigma) in lanes: out[k] = scale exp(F(ln g, v))
 // for every query inside the table (KernelTable::contains, the same test lane by lane; 0 beyond
 // kKernelZFar). Returns the number of queries outside, their indices in outside[] (out[k] is
-// unspecified there: the caller evaluates them otherwise).
-std::size_t kernel_table_lanes(const KernelTableView& table, const double* g, const double* c, std::size_t count, double scale,
-                               double* out, std::uint32_t* outside);
+// unspecified there: the caller evaluates them otherwise). ln_g: ln g[k] as the caller has it
+// (KernelTable::scaled_sigma_inside), or null for a logarithm per query.
+std::size_t kernel_table_lanes(const KernelTableView& table, const double* g, const double* c, const double* ln_g, std::size_t count,
+                               double scale, double* out, std::uint32_t* outside);
+
+// out[k] = ln x[k] (Highway's Log, within 4 ulp; -inf at 0, NaN below) for k < count.
+void log_span(const double* x, std::size_t count, double* out);
 
 }  // namespace libbrdf::detail

@@ -176,7 +176,7 @@ void row_geometries(const RowFrame& f, const RowTrig& t, int row_length, Scatter
 double kernel_node_value(const Lut& lut, const Model& model, int channel, double theta_i, const ScatterGeometry& geo) {
   if (detail::kernel_angular_all_closed(lut.kernel_model, lut.kernel_angular)) return 1.0;
   double closed = 0.0;
-  detail::kernel_closed_form_span(lut, channel, &geo, 1, &closed);
+  detail::kernel_closed_form_span(lut, channel, 1, &geo, 1, &closed, 1);
   const double divisor = model.renormalization(theta_i) * closed;
   return divisor > 0.0 ? model.evaluate(geo, 1.0) / divisor : 1.0;
 }

@@ -175,9 +175,9 @@ double KernelTable::log_sigma(double g, double c) const {
 }
 
 std::size_t KernelTable::scaled_sigma_inside(const double* g, const double* c, std::size_t count, double scale, double* out,
-                                             std::uint32_t* outside) const {
+                                             std::uint32_t* outside, const double* ln_g) const {
   const detail::KernelTableView view{nodes_, nx_, nz_, nw_, x_min_, dx_, dz_, dw_, spec_.prefetch_rows, spec_.node_doubles()};
-  return detail::kernel_table_lanes(view, g, c, count, scale, out, outside);
+  return detail::kernel_table_lanes(view, g, c, ln_g, count, scale, out, outside);
 }
 
 void KernelTable::sigma_many(const double* g, const double* c, std::size_t count, double* sigma) const {

@@ -80,8 +80,10 @@ void catmull_rom_rows(const float* values, std::size_t channel_stride, int chann
 // lookup; the table holds P~ = P / K / that. F(theta_d) times F_bk^2 of eq. 26 (bk), 1/S of eq. 28
 // (bk-modified), G/S (mbk-fg in the closed form), 1 (mbk-fg and mbk with the table form); Stover's
 // Qbar for mbk in the closed form.
-// Over a span of geometries (SIMD Fresnel and Qbar): out[k] for geos[k].
-void kernel_closed_form_span(const Lut& lut, int channel, const ScatterGeometry* geos, std::size_t count, double* out);
+// Over a span of geometries (SIMD Fresnel and Qbar): out[c channel_stride + k] for geos[k] and
+// channel first_channel + c, c < channel_count (the channels' Qbar from one read of the geometries).
+void kernel_closed_form_span(const Lut& lut, int first_channel, int channel_count, const ScatterGeometry* geos, std::size_t count,
+                             double* out, std::size_t channel_stride);
 // True when the closed-form part is all of P (the table holds 1).
 bool kernel_angular_all_closed(ModelKind model, KernelAngular angular);
 // Interpolated values of channels [first, first + channel_count) at `count` geometries with their

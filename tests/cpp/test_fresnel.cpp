@@ -184,4 +184,28 @@ TEST(Fresnel, SimdSpansMatchScalarQbarAndF) {
     EXPECT_LE(worst_f, 1e-13) << index.n << " + " << index.kappa << "i";
   }
 }
+
+// Several channels' Qbar in one pass (the kernel layout's wavelengths share the geometry reads):
+// each channel's values are its single-channel span's, bit for bit, at span lengths shorter than
+// a vector, not a multiple of it, and long; the rows land at their stride.
+TEST(Fresnel, MultiChannelQbarSpanGivesEachChannelsOwnBits) {
+  std::vector<ScatterGeometry> geos;
+  std::mt19937_64 rng(12);
+  std::uniform_real_distribution<double> polar(0.0, deg(89.9)), azimuth(0.0, 2 * kPi);
+  for (int k = 0; k < 301; ++k) geos.push_back(make_scatter_geometry({polar(rng), polar(rng), azimuth(rng)}));
+  const std::vector<ComplexIndex> indices{{0.2, 3.0}, {1.5, 0.0}, {0.6, 0.0}, {0.18, 3.4}};
+  std::vector<double> eps_re, eps_im;
+  for (const ComplexIndex& index : indices) eps_re.push_back(index.permittivity().real()), eps_im.push_back(index.permittivity().imag());
+  const int channels = static_cast<int>(indices.size());
+  for (std::size_t count : {std::size_t{1}, std::size_t{3}, std::size_t{13}, geos.size()}) {
+    const std::size_t stride = count + 5;
+    std::vector<double> all(channels * stride, -7.0), one(count);
+    detail::stover_q_bar_span(eps_re.data(), eps_im.data(), channels, geos.data(), count, all.data(), stride);
+    for (int c = 0; c < channels; ++c) {
+      detail::stover_q_bar_span(eps_re[c], eps_im[c], geos.data(), count, one.data());
+      for (std::size_t k = 0; k < count; ++k) ASSERT_EQ(all[c * stride + k], one[k]) << "channel " << c << " count " << count << " k " << k;
+      for (std::size_t k = count; k < stride; ++k) ASSERT_EQ(all[c * stride + k], -7.0) << "written past the row, channel " << c;
+    }
+  }
+}
 }  // namespace

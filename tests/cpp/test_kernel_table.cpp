@@ -299,4 +299,44 @@ TEST_P(KernelTableTier, ScaledLookupHandsBackExactlyTheQueriesOutside) {
   EXPECT_EQ(std::vector<std::uint32_t>(outside.begin(), outside.begin() + static_cast<std::ptrdiff_t>(count)), expected);
 }
 
+// A caller's ln g (the kernel layout: 2 ln(g_scale |cos ti + cos ts|), shared by its wavelengths)
+// gives the lookup with the table's own logarithm to rounding, hands back the same queries, and
+// cannot select a row outside the table at g = kKernelGMin with ln g rounded low.
+TEST_P(KernelTableTier, CallersLogarithmGivesTheSameLookups) {
+  std::mt19937_64 rng(21);
+  std::uniform_real_distribution<double> cos_sum(0.02, 2.0), eta(0.0, 4.0), scale_log(std::log(1e-3), std::log(100.0));
+  std::vector<double> g, c, ln_g;
+  for (int k = 0; k < 4000; ++k) {
+    const double ln_scale = scale_log(rng), s = cos_sum(rng);
+    const double g_scale = std::exp(ln_scale);
+    g.push_back((g_scale * s) * (g_scale * s));
+    c.push_back(eta(rng) * 40.0);
+    ln_g.push_back(2.0 * (ln_scale + std::log(s)));
+  }
+  g.push_back(kKernelGMin), c.push_back(3.0), ln_g.push_back(std::nextafter(std::log(kKernelGMin), -1e300) - 1e-12);
+  g.push_back(1.0), c.push_back(-1.0), ln_g.push_back(0.0);  // outside: handed back either way
+  const std::size_t n = g.size();
+  std::vector<double> own(n), shared(n);
+  std::vector<std::uint32_t> outside_own(n), outside_shared(n);
+  const std::size_t own_count = table.scaled_sigma_inside(g.data(), c.data(), n, 2.0, own.data(), outside_own.data());
+  const std::size_t shared_count = table.scaled_sigma_inside(g.data(), c.data(), n, 2.0, shared.data(), outside_shared.data(), ln_g.data());
+  std::vector<std::uint32_t> expected;  // g spans 4e-10 .. 4e4: some below and above the table
+  for (std::size_t k = 0; k < n; ++k)
+    if (!table.contains(g[k], c[k])) expected.push_back(static_cast<std::uint32_t>(k));
+  ASSERT_GT(expected.size(), 100u);
+  ASSERT_LT(expected.size(), n / 2);
+  EXPECT_EQ(std::vector<std::uint32_t>(outside_own.begin(), outside_own.begin() + static_cast<std::ptrdiff_t>(own_count)), expected);
+  EXPECT_EQ(std::vector<std::uint32_t>(outside_shared.begin(), outside_shared.begin() + static_cast<std::ptrdiff_t>(shared_count)), expected);
+  double worst = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (!table.contains(g[k], c[k])) continue;
+    ASSERT_TRUE(std::isfinite(shared[k]) && shared[k] >= 0.0) << k;
+    if (own[k] > 0.0) worst = std::max(worst, std::abs(shared[k] - own[k]) / own[k]);
+  }
+  // ln Sigma moves by (d ln Sigma / d ln g) x ln g's rounding, ~1e-14: the slope is the index of
+  // the largest term, up to ~100 here (measured 1.0e-12).
+  EXPECT_LE(worst, 4e-12);
+  EXPECT_NEAR(shared[n - 2], 2.0 * table.sigma(kKernelGMin, 3.0), 1e-9 * shared[n - 2]);
+}
+
 }  // namespace

@@ -129,8 +129,9 @@ AsfRegime asf_regime(const AsfArguments& args, double tolerance, bool allow_tabl
 // never NaN/Inf for finite g, c >= 0, 0 where every term underflows. Queries run in SIMD lanes
 // (Google Highway, run-time dispatch), each lane alone: asf_out[k] depends on g[k], c[k] only,
 // bit for bit, whatever else is in the batch (count 1 included). asf_out may not alias g or c.
+// ln_g, if given: ln g[k] for the kernel table's lookups (KernelTable::scaled_sigma_inside).
 void asf_auto_batch(const double* g, const double* c, std::size_t count, double prefactor, double tolerance,
-                    const SeriesOptions& options, double* asf_out);
+                    const SeriesOptions& options, double* asf_out, const double* ln_g = nullptr);
 // The same at a span of geometries of one surface: asf_out[k] = asf_auto(asf_arguments(surface,
 // geos[k]), tolerance, nullptr, options), g and c derived here block by block.
 void asf_auto_geometries(const Surface& surface, const ScatterGeometry* geos, std::size_t count, double tolerance,
