@@ -44,7 +44,8 @@ struct KernelTableView {
 std::size_t kernel_table_lanes(const KernelTableView& table, const double* g, const double* c, const double* ln_g, std::size_t count,
                                double scale, double* out, std::uint32_t* outside);
 
-// out[k] = ln x[k] (Highway's Log, within 4 ulp; -inf at 0, NaN below) for k < count.
+// out[k] = ln x[k] for k < count (Highway's Log, within 4 ulp) for x[k] > 0; 0 and negative x[k]
+// give finite values that mean nothing (measured: -746.5 at 0, 1419.6 at -1). out may be x.
 void log_span(const double* x, std::size_t count, double* out);
 
 }  // namespace libbrdf::detail

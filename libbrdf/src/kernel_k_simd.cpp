@@ -10,8 +10,10 @@
 #include <algorithm>
 #include <cstdint>
 
-#include "lerp_simd-inl.h"  // SplitIndex, Lerp, GatherNodePair, VectorItems
+#include "geometry_records-inl.h"  // Field
+#include "lerp_simd-inl.h"         // SplitIndex, Lerp, GatherNodePair, VectorItems
 #include "lut_internal.h"
+#include "upper_half_angle-inl.h"  // UpperHalfAngle
 
 HWY_BEFORE_NAMESPACE();
 namespace libbrdf::detail {
@@ -28,19 +30,18 @@ namespace hn = hwy::HWY_NAMESPACE;
 // CPU, best of 3000 passes, alternated runs: against the scalar loop (27.2-27.7 ns), 26.4-27.3 ns
 // with the positions found in every channel's pass, 25.0-25.2 ns with them shared (26.2-26.8 in
 // that run); the values md5-identical (every kernel-layout model, both angular forms, 5000 geometries).
-bool KPositionsSpan(int nodes, const TableAngles* angles, std::size_t count, double* node, double* offset) {
+bool KPositionsSpan(int nodes, const ScatterGeometry* geos, std::size_t count, double* node, double* offset) {
   const hn::ScalableTag<double> d;
   using V = hn::Vec<decltype(d)>;
   constexpr std::size_t kMaxLanes = HWY_MAX_BYTES / sizeof(double);
   const std::size_t n = hn::Lanes(d);
   const V zero = hn::Zero(d), right_angle = hn::Set(d, 0.5 * kPi), last = hn::Set(d, double(nodes - 1));
-  TableAngles padded[kMaxLanes];
+  ScatterGeometry padded[kMaxLanes];
   alignas(64) double i_out[kMaxLanes], t_out[kMaxLanes];
   for (std::size_t k = 0; k < count; k += n) {
     const std::size_t m = std::min(n, count - k);
-    const TableAngles* at = VectorItems(d, angles, k, count, padded);
-    V theta_h, theta_d, phi_d, theta_i;
-    hn::LoadInterleaved4(d, reinterpret_cast<const double*>(at), theta_h, theta_d, phi_d, theta_i);
+    const ScatterGeometry* at = VectorItems(d, geos, k, count, padded);
+    const V theta_i = UpperHalfAngle(d, Field(d, at, kSinI), Field(d, at, kCosI));
     if (!hn::AllTrue(d, hn::And(hn::Ge(theta_i, zero), hn::Le(theta_i, right_angle)))) return false;
     V i, t;
     SplitIndex(d, hn::Mul(hn::Div(theta_i, right_angle), last), nodes, &i, &t);
@@ -87,8 +88,8 @@ HWY_AFTER_NAMESPACE();
 namespace libbrdf::detail {
 HWY_EXPORT(KPositionsSpan);
 HWY_EXPORT(KFactorsSpan);
-bool k_positions_span(int nodes, const TableAngles* angles, std::size_t count, double* node, double* offset) {
-  return count == 0 || HWY_DYNAMIC_DISPATCH(KPositionsSpan)(nodes, angles, count, node, offset);
+bool k_positions_span(int nodes, const ScatterGeometry* geos, std::size_t count, double* node, double* offset) {
+  return count == 0 || HWY_DYNAMIC_DISPATCH(KPositionsSpan)(nodes, geos, count, node, offset);
 }
 void k_factors_span(const float* k_table, const double* node, const double* offset, const double* closed, const double* asf, std::size_t count,
                     double* factor) {

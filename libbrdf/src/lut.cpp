@@ -243,7 +243,8 @@ void kernel_angular_factors(const Lut& lut, const detail::TableAngles& a, int fi
 
 // Kernel layout: f = K(theta_i) F(theta_d) [closed-form factor] P~ (pi l_c^2/lambda^2) Sigma(g, c)
 // (lut.h), eqs 10-12, for a span of queries; Sigma of each channel through the batch ASF
-// (mbk_series.h) at kKernelLayoutSigmaTolerance (lut.h).
+// (mbk_series.h) at kKernelLayoutSigmaTolerance (lut.h). angles: the table angles of the P~ table
+// form (table_angles_for); the closed form reads none.
 void kernel_span(const Lut& lut, const ScatterGeometry* geos, const detail::TableAngles* angles, std::size_t count,
                  int first_channel, int channel_count, double* values) {
   // Blocks of 256: 3-channel closed-form lookups 44-47 -> 42-44 ns against blocks of 64
@@ -277,6 +278,7 @@ void kernel_span(const Lut& lut, const ScatterGeometry* geos, const detail::Tabl
       for (std::size_t k = 0; k < n; ++k)
         kernel_angular_factors(lut, angles[begin + k], first_channel, channel_count, values + (begin + k) * channel_count);
     for (std::size_t k = 0; k < n; ++k) cos_sum[k] = block[k].cos_theta_i + block[k].cos_theta_s, eta_r2[k] = block[k].eta_r2;
+    // |cos ti + cos ts| (g is its square); where it is 0, so is g, outside the table: its ln g is not read.
     for (std::size_t k = 0; k < n; ++k) ln_cos_sum[k] = std::abs(cos_sum[k]);
     detail::log_span(ln_cos_sum, n, ln_cos_sum);
     int k_nodes = -1;  // the K table size k_node, k_offset were found for
@@ -295,9 +297,9 @@ void kernel_span(const Lut& lut, const ScatterGeometry* geos, const detail::Tabl
       const std::vector<float>& k_table = lut.renormalization[channel];
       if (static_cast<int>(k_table.size()) != k_nodes) {  // once per block (every channel's table has as many nodes from bake)
         k_nodes = static_cast<int>(k_table.size());
-        if (!detail::k_positions_span(k_nodes, angles + begin, n, k_node, k_offset))  // a theta_i beyond [0, 90] deg:
+        if (!detail::k_positions_span(k_nodes, block, n, k_node, k_offset))  // a theta_i beyond [0, 90] deg:
           for (std::size_t k = 0; k < n; ++k) {  // the scalar formula, which names it
-            const LinearPosition p = linear_position(k_nodes, angles[begin + k].theta_i);
+            const LinearPosition p = linear_position(k_nodes, std::atan2(block[k].sin_theta_i, block[k].cos_theta_i));
             k_node[k] = p.i, k_offset[k] = p.t;
           }
       }
@@ -314,10 +316,10 @@ void kernel_span(const Lut& lut, const ScatterGeometry* geos, const detail::Tabl
 
 void detail::table_angles_for(const Lut& lut, const ScatterGeometry* geos, std::size_t count, TableAngles* out,
                               std::size_t first_index) {
-  // The closed form's table holds 1 (kernel_span): no half/difference angles are read.
-  std::size_t bad = lut.layout == LutLayout::kernel && lut.kernel_angular == KernelAngular::closed_form
-                        ? table_theta_i(geos, count, out)
-                        : table_angles(geos, count, out);
+  // The closed form's table holds 1 (kernel_span): no table angle is read (K's position comes from
+  // the geometry: k_positions_span), and none is computed.
+  const bool no_angles = lut.layout == LutLayout::kernel && lut.kernel_angular == KernelAngular::closed_form;
+  std::size_t bad = no_angles ? count : table_angles(geos, count, out);
   if (lut.layout == LutLayout::kernel) bad = first_non_finite(geos, bad);  // Sigma, Qbar and F read every field
   if (bad < count) throw InvalidQuery(InvalidArgument("geometry", "a field of the ScatterGeometry is not finite"), first_index + bad);
 }

@@ -22,11 +22,9 @@ std::array<double, 3> lut_axis_spans(LutLayout layout, const std::array<int, 3>&
 struct TableAngles {
   double theta_h, theta_d, phi_d, theta_i;
 };
-// Both return the index of the first geometry that is not finite (geometry_finite) where a sine
-// or cosine they read is not (out is then incomplete), or count.
+// Returns the index of the first geometry that is not finite (geometry_finite) where a sine or
+// cosine it reads is not (out is then incomplete), or count.
 std::size_t table_angles(const ScatterGeometry* geos, std::size_t count, TableAngles* out);
-// theta_i alone (the same bits as table_angles'), the other three angles NaN.
-std::size_t table_theta_i(const ScatterGeometry* geos, std::size_t count, TableAngles* out);
 // The index of the first geometry of the span with a non-finite field, or count (SIMD).
 std::size_t first_non_finite(const ScatterGeometry* geos, std::size_t count);
 // Every field of a ScatterGeometry is finite (so it is from make_scatter_geometry; a hand-filled
@@ -66,9 +64,10 @@ void trilinear_span(const TrilinearView& table, const TableAngles* angles, std::
                     double* values);
 // Kernel layout (kernel_k_simd.cpp): K(theta_i) linearly interpolated in a table of `nodes` (>= 2)
 // floats over [0, pi/2] in SIMD lanes, bit for bit lut.cpp's scalar linear_at. k_positions_span:
-// each angles[k].theta_i's node index and offset (false, the arrays unspecified, if some theta_i
-// lies outside [0, pi/2]); k_factors_span: factor[k] = K closed[k] asf[k] from them.
-bool k_positions_span(int nodes, const TableAngles* angles, std::size_t count, double* node, double* offset);
+// the node index and offset of each geos[k]'s theta_i (atan2 of sin and cos theta_i by table_angles'
+// UpperHalfAngle), false (the arrays unspecified) if some theta_i lies outside [0, pi/2];
+// k_factors_span: factor[k] = K closed[k] asf[k] from them.
+bool k_positions_span(int nodes, const ScatterGeometry* geos, std::size_t count, double* node, double* offset);
 void k_factors_span(const float* k_table, const double* node, const double* offset, const double* closed, const double* asf, std::size_t count,
                     double* factor);
 // Kernel layout, the P~ table (kernel_angular_simd.cpp): out[c] = sum over the 16 rows r and the

@@ -1,45 +1,26 @@
 // Table coordinates of a span of geometries in SIMD (Google Highway, run-time dispatch): the
 // half/difference angles of half_difference_angles() (lut.cpp, MERL's half-vector frame) and
-// theta_i, from the dot products of ScatterGeometry with one vector arctangent per angle and no
-// branch per query (lut_internal.h: detail::table_angles). The records are read a vector at a
-// time by transposition (geometry_records-inl.h) and the four angles stored interleaved: no
-// structure-of-arrays copy in or out (3-channel 48^3 lookups, CPU time in one run: 23.7 -> 22.7-23.0 ns).
-//
-// Every angle lies in [0, pi] and is atan2(y, x) with y >= 0, written without atan2 as
-//   a = atan(min(y, |x|) / max(y, |x|))          in [0, pi/4]
-//   a -> pi/2 - a  where y > |x|,   a -> pi - a  where x < 0,
-// so that the arctangent (Highway's polynomial of hn::Atan, hwy/contrib/math, 2 ulp) only sees
-// arguments in [0, 1].
+// theta_i, from the dot products of ScatterGeometry with one vector arctangent per angle
+// (UpperHalfAngle: upper_half_angle-inl.h) and no branch per query (lut_internal.h:
+// detail::table_angles). The records are read a vector at a time by transposition
+// (geometry_records-inl.h) and the four angles stored interleaved: no structure-of-arrays copy in
+// or out (3-channel 48^3 lookups, CPU time in one run: 23.7 -> 22.7-23.0 ns).
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "table_angles_simd.cpp"
 #include <hwy/foreach_target.h>  // must come before highway.h
 #include <hwy/highway.h>
-#include <hwy/contrib/math/math-inl.h>
 
 #include <algorithm>
 #include <cfloat>
-#include <limits>
 
 #include "geometry_records-inl.h"  // LoadRecords
 #include "lut_internal.h"
+#include "upper_half_angle-inl.h"  // UpperHalfAngle
 
 HWY_BEFORE_NAMESPACE();
 namespace libbrdf::detail {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
-
-// atan2(y, x) for y >= 0, branch-free (see the file comment).
-template <class D, class V>
-HWY_INLINE V UpperHalfAngle(D d, V y, V x) {
-  const V ax = hn::Abs(x);
-  const V big = hn::Max(hn::Max(y, ax), hn::Set(d, DBL_MIN));  // 0/0 -> 0/DBL_MIN = 0 at the origin
-  // hn::Atan's own polynomial on [0, 1] (hwy::impl, Debian's Highway 1.0.3): hn::Atan divides 1 by
-  // its argument or by 1 in every lane to fold |x| > 1, a division that an argument already in
-  // [0, 1] does not need; there the two give the same bits (3-channel lookups 37.5 -> 35.6 ns).
-  const V a = hn::impl::AtanImpl<double>().AtanPoly(d, hn::Div(hn::Min(y, ax), big));
-  const V folded = hn::IfThenElse(hn::Gt(y, ax), hn::Sub(hn::Set(d, 0.5 * kPi), a), a);
-  return hn::IfThenElse(hn::Lt(x, hn::Zero(d)), hn::Sub(hn::Set(d, kPi), folded), folded);
-}
 
 // Whether every lane of every vector given is finite.
 template <class D, class V>
@@ -80,19 +61,6 @@ HWY_INLINE bool TableAnglesOfVector(D d, const ScatterGeometry* geos, TableAngle
   hn::StoreInterleaved4(UpperHalfAngle(d, h_xy, hz), UpperHalfAngle(d, d_xy, dz),
                         UpperHalfAngle(d, hn::Abs(ty), dx),  // phi_d folded by the mirror symmetry
                         UpperHalfAngle(d, si, ci), d, reinterpret_cast<double*>(out));
-  return true;
-}
-
-// theta_i alone (the same arithmetic as TableAnglesOfVector's); the other three angles NaN.
-// False (nothing stored) if sin or cos theta_i is not finite.
-template <class D>
-HWY_INLINE bool ThetaIOfVector(D d, const ScatterGeometry* geos, TableAngles* out) {
-  alignas(64) double theta_i[HWY_MAX_BYTES / sizeof(double)];
-  const hn::Vec<D> trig[2] = {Field(d, geos, kSinI), Field(d, geos, kCosI)};
-  if (!AllFinite(d, trig, 2)) return false;
-  hn::Store(UpperHalfAngle(d, trig[0], trig[1]), d, theta_i);
-  constexpr double kUnread = std::numeric_limits<double>::quiet_NaN();
-  for (std::size_t j = 0; j < hn::Lanes(d); ++j) out[j] = TableAngles{kUnread, kUnread, kUnread, theta_i[j]};
   return true;
 }
 
@@ -142,10 +110,6 @@ std::size_t TableAnglesSpan(const ScatterGeometry* geos, std::size_t count, Tabl
   return ForEachVector(geos, count, out, [](auto d, const ScatterGeometry* g, TableAngles* o) { return TableAnglesOfVector(d, g, o); });
 }
 
-std::size_t ThetaISpan(const ScatterGeometry* geos, std::size_t count, TableAngles* out) {
-  return ForEachVector(geos, count, out, [](auto d, const ScatterGeometry* g, TableAngles* o) { return ThetaIOfVector(d, g, o); });
-}
-
 }  // namespace HWY_NAMESPACE
 }  // namespace libbrdf::detail
 HWY_AFTER_NAMESPACE();
@@ -153,16 +117,12 @@ HWY_AFTER_NAMESPACE();
 #if HWY_ONCE
 namespace libbrdf::detail {
 HWY_EXPORT(TableAnglesSpan);
-HWY_EXPORT(ThetaISpan);
 HWY_EXPORT(FirstNonFiniteSpan);
 std::size_t first_non_finite(const ScatterGeometry* geos, std::size_t count) {
   return count > 0 ? HWY_DYNAMIC_DISPATCH(FirstNonFiniteSpan)(geos, count) : 0;
 }
 std::size_t table_angles(const ScatterGeometry* geos, std::size_t count, TableAngles* out) {
   return count > 0 ? HWY_DYNAMIC_DISPATCH(TableAnglesSpan)(geos, count, out) : 0;
-}
-std::size_t table_theta_i(const ScatterGeometry* geos, std::size_t count, TableAngles* out) {
-  return count > 0 ? HWY_DYNAMIC_DISPATCH(ThetaISpan)(geos, count, out) : 0;
 }
 }  // namespace libbrdf::detail
 #endif
