@@ -215,13 +215,8 @@ void kernel_angular_factors(const Lut& lut, const detail::TableAngles& a, int fi
       rows[4 * a0 + a1] = (static_cast<std::size_t>(CubicAxis::node(x0.first + a0, n0)) * n1 + CubicAxis::node(x1.first + a1, n1)) * n2;
   const float* first = lut.values.data() + static_cast<std::size_t>(first_channel) * lut.nodes_per_channel();
   if (x2.first >= 0 && x2.first + 3 <= n2 - 1) {  // the phi_d taps adjacent: in lanes
-    double row_weights[16];
-    for (int a0 = 0; a0 < 4; ++a0)
-      for (int a1 = 0; a1 < 4; ++a1) {
-        row_weights[4 * a0 + a1] = x0.weight[a0] * x1.weight[a1];
-        rows[4 * a0 + a1] += static_cast<std::size_t>(x2.first);
-      }
-    detail::catmull_rom_rows(first, lut.nodes_per_channel(), channel_count, rows, row_weights, x2.weight, out);
+    for (std::size_t& row : rows) row += static_cast<std::size_t>(x2.first);
+    detail::catmull_rom_rows(first, lut.nodes_per_channel(), channel_count, rows, x0.weight, x1.weight, x2.weight, out);
     return;
   }
   for (int c = 0; c < channel_count; ++c) {

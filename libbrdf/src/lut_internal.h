@@ -70,11 +70,13 @@ void trilinear_span(const TrilinearView& table, const TableAngles* angles, std::
 bool k_positions_span(int nodes, const ScatterGeometry* geos, std::size_t count, double* node, double* offset);
 void k_factors_span(const float* k_table, const double* node, const double* offset, const double* closed, const double* asf, std::size_t count,
                     double* factor);
-// Kernel layout, the P~ table (kernel_angular_simd.cpp): out[c] = sum over the 16 rows r and the
-// 4 taps m of row_weights[r] phi_weights[m] values[c channel_stride + rows[r] + m], for channels
-// c < channel_count: a Catmull-Rom stencil whose phi_d taps are adjacent (not clamped).
+// Kernel layout, the P~ table (kernel_angular_simd.cpp): out[c] = sum over the 16 rows r = 4 a0 + a1
+// and the 4 taps m of theta_h_weights[a0] theta_d_weights[a1] phi_weights[m]
+// values[c channel_stride + rows[r] + m], for channels c < channel_count: a Catmull-Rom stencil
+// whose phi_d taps are adjacent (not clamped). Summed in single precision (~1e-7 relative, the
+// table's own floats; the layout promises 1e-3).
 void catmull_rom_rows(const float* values, std::size_t channel_stride, int channel_count, const std::size_t* rows,
-                      const double* row_weights, const double* phi_weights, double* out);
+                      const double* theta_h_weights, const double* theta_d_weights, const double* phi_weights, double* out);
 // Kernel layout: the closed-form part of the angular factor P of a channel (lut.h), evaluated at
 // lookup; the table holds P~ = P / K / that. F(theta_d) times F_bk^2 of eq. 26 (bk), 1/S of eq. 28
 // (bk-modified), G/S (mbk-fg in the closed form), 1 (mbk-fg and mbk with the table form); Stover's
