@@ -25,7 +25,9 @@ namespace hn = hwy::HWY_NAMESPACE;
 // operations (-ffp-contract=off): the same bits. First each query's position (node index and
 // offset, shared by the channels whose K tables have as many nodes), then per channel
 // factor[k] = K closed[k] asf[k], the node pair of a lane's cell fetched by one gather as
-// TrilinearSpan's rows (trilinear_simd.cpp). KPositionsSpan returns false at a theta_i outside
+// TrilinearSpan's rows (trilinear_simd.cpp). theta_i is atan2(sin, cos) of the geometry by the
+// table coordinates' UpperHalfAngle (stop 25: no separate pass storing it into table angles, 23.1-23.6
+// -> 22.5-23.0 ns, the same bits). KPositionsSpan returns false at a theta_i outside
 // [0, pi/2], NaN included, for lut.cpp's scalar path to name it. 3-channel closed-form lookups, 8000 cached geometries, one
 // CPU, best of 3000 passes, alternated runs: against the scalar loop (27.2-27.7 ns), 26.4-27.3 ns
 // with the positions found in every channel's pass, 25.0-25.2 ns with them shared (26.2-26.8 in

@@ -202,6 +202,10 @@ struct CubicAxis {
   static int node(int j, int nodes) { return std::clamp(j, 0, nodes - 1); }
 };
 
+// Channels whose closed-form factors are evaluated together (kernel_closed_form_span: Qbar reads
+// the geometries once for all of them): RGB in one group.
+constexpr int kKernelChannelGroup = 4;
+
 // P~ of channels [first, first + count) at one query: the stencil is shared by the channels.
 void kernel_angular_factors(const Lut& lut, const detail::TableAngles& a, int first_channel, int channel_count, double* out) {
   const std::array<double, 3> span = detail::lut_axis_spans(lut.layout, lut.shape);
@@ -250,7 +254,7 @@ void kernel_span(const Lut& lut, const ScatterGeometry* geos, const detail::Tabl
   // their products written to the interleaved values once the group is done, not by a pass per
   // channel with stride channel_count: 3-channel closed-form lookups 24.1-24.4 -> 22.9-23.5 ns
   // (cached, measured as below).
-  constexpr int kGroup = 4;
+  constexpr int kGroup = kKernelChannelGroup;
   double closed[kGroup][kBlock], factor[kGroup][kBlock];
   // What g and c (eq. 12, eq. 10) depend on, read from the geometries once for every channel
   // (asf_auto_geometries per channel read them three times: 27.7-28.2 -> 27.2-27.7 ns per 3-channel
@@ -379,7 +383,7 @@ bool detail::kernel_angular_all_closed(ModelKind model, KernelAngular angular) {
 void detail::kernel_closed_form_span(const Lut& lut, int first_channel, int channel_count, const ScatterGeometry* geos,
                                      std::size_t count, double* out, std::size_t channel_stride) {
   if (lut.kernel_model == ModelKind::mbk && lut.kernel_angular == KernelAngular::closed_form) {  // P = Qbar (conventions.md)
-    constexpr int kGroup = 4;
+    constexpr int kGroup = kKernelChannelGroup;
     for (int group = 0; group < channel_count; group += kGroup) {
       double eps_re[kGroup], eps_im[kGroup];
       const int size = std::min(kGroup, channel_count - group);

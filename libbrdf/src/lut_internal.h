@@ -34,9 +34,10 @@ inline bool geometry_finite(const ScatterGeometry& g) {
          std::isfinite(g.sin_theta_s) && std::isfinite(g.cos_phi_s) && std::isfinite(g.sin_phi_s) &&
          std::isfinite(g.cos_2theta_d) && std::isfinite(g.cos_theta_d) && std::isfinite(g.cos_theta_h) && std::isfinite(g.eta_r2);
 }
-// The angles a lookup of `lut` reads (lut.cpp): all four, or theta_i alone for the kernel layout's
-// closed form, whose lookups need theta_i only (K's side table): 3-channel kernel lookups spent
-// ~15% of their time on the other three angles.
+// The angles a lookup of `lut` reads (lut.cpp): all four, or none (out is not written) for the
+// kernel layout's closed form, whose K position comes from the geometry (k_positions_span):
+// 3-channel kernel lookups spent ~15% of their time on the other three angles, then ~2% on
+// theta_i's own pass.
 // Throws InvalidQuery (batch.h; index first_index + k, parameter "geometry") at the first geometry
 // with a non-finite field the lookup reads (the kernel layout reads them all), instead of looking
 // up a wrong node or value.
