@@ -21,6 +21,7 @@
 #include <cstdint>
 
 #include "asf_lanes.h"
+#include "lerp_simd-inl.h"  // VectorItems, StoreItems
 #include "libbrdf/kernel_table.h"
 #include "libbrdf/mbk_series.h"
 #include "series_simd.h"
@@ -421,7 +422,6 @@ std::size_t KernelTableLanes(const KernelTableView& table, const double* g, cons
     const double* const dv_chunk = at.dv;
     const std::size_t chunk = std::min(kTableChunk, count - k0);
     for (std::size_t k = 0; k < chunk; k += n) {
-      const std::size_t m = std::min(n, chunk - k);
       const V s = hn::Load(d, s_chunk + k), t = hn::Load(d, t_chunk + k), dv = hn::Load(d, dv_chunk + k);
       // Cubic Hermite basis: values h0, h1; derivatives (times the cell size) d0, d1.
       const V s2 = hn::Mul(s, s), t2 = hn::Mul(t, t);
@@ -444,12 +444,7 @@ std::size_t KernelTableLanes(const KernelTableView& table, const double* g, cons
         }
       }
       const V value = hn::IfThenZeroElse(hn::Eq(dv, hn::Zero(d)), ExpFullRange(d, hn::Add(f, ln_scale)));
-      if (m == n) {
-        hn::StoreU(value, d, sigma + k0 + k);
-      } else {
-        hn::Store(value, d, out);
-        std::copy(out, out + m, sigma + k0 + k);
-      }
+      StoreItems(d, value, sigma, k0 + k, k0 + chunk);
     }
   };
   if (count > 0) locate(0, cells[0]);
@@ -462,15 +457,9 @@ std::size_t KernelTableLanes(const KernelTableView& table, const double* g, cons
 
 void LogSpan(const double* x, std::size_t count, double* out) {
   const hn::ScalableTag<double> d;
-  const std::size_t n = hn::Lanes(d);
-  std::size_t k = 0;
-  for (; k + n <= count; k += n) hn::StoreU(hn::Log(d, hn::LoadU(d, x + k)), d, out + k);
-  if (k < count) {  // the remainder through a padded copy
-    alignas(64) double pad[kMaxLanes];
-    for (std::size_t j = 0; j < n; ++j) pad[j] = k + j < count ? x[k + j] : 1.0;
-    hn::Store(hn::Log(d, hn::Load(d, pad)), d, pad);
-    std::copy(pad, pad + (count - k), out + k);
-  }
+  alignas(64) double padded[kMaxLanes];
+  for (std::size_t k = 0; k < count; k += hn::Lanes(d))
+    StoreItems(d, hn::Log(d, hn::LoadU(d, VectorItems(d, x, k, count, padded))), out, k, count);
 }
 
 }  // namespace HWY_NAMESPACE

@@ -11,7 +11,7 @@
 #include <cstdint>
 
 #include "geometry_records-inl.h"  // Field
-#include "lerp_simd-inl.h"         // SplitIndex, Lerp, GatherNodePair, VectorItems
+#include "lerp_simd-inl.h"         // SplitIndex, Lerp, GatherNodePair, VectorItems, StoreItems
 #include "lut_internal.h"
 #include "upper_half_angle-inl.h"  // UpperHalfAngle
 
@@ -39,20 +39,13 @@ bool KPositionsSpan(int nodes, const ScatterGeometry* geos, std::size_t count, d
   const std::size_t n = hn::Lanes(d);
   const V zero = hn::Zero(d), right_angle = hn::Set(d, 0.5 * kPi), last = hn::Set(d, double(nodes - 1));
   ScatterGeometry padded[kMaxLanes];
-  alignas(64) double i_out[kMaxLanes], t_out[kMaxLanes];
   for (std::size_t k = 0; k < count; k += n) {
-    const std::size_t m = std::min(n, count - k);
     const ScatterGeometry* at = VectorItems(d, geos, k, count, padded);
     const V theta_i = UpperHalfAngle(d, Field(d, at, kSinI), Field(d, at, kCosI));
     if (!hn::AllTrue(d, hn::And(hn::Ge(theta_i, zero), hn::Le(theta_i, right_angle)))) return false;
     V i, t;
     SplitIndex(d, hn::Mul(hn::Div(theta_i, right_angle), last), nodes, &i, &t);
-    if (m == n) {
-      hn::StoreU(i, d, node + k), hn::StoreU(t, d, offset + k);
-    } else {
-      hn::Store(i, d, i_out), hn::Store(t, d, t_out);
-      std::copy(i_out, i_out + m, node + k), std::copy(t_out, t_out + m, offset + k);
-    }
+    StoreItems(d, i, node, k, count), StoreItems(d, t, offset, k, count);
   }
   return true;
 }
@@ -65,20 +58,14 @@ void KFactorsSpan(const float* k_table, const double* node, const double* offset
   constexpr std::size_t kMaxLanes = HWY_MAX_BYTES / sizeof(double);
   const std::size_t n = hn::Lanes(d);
   const V one = hn::Set(d, 1.0);
-  alignas(64) double pad[4][kMaxLanes], out[kMaxLanes];
+  alignas(64) double pad[4][kMaxLanes];
   for (std::size_t k = 0; k < count; k += n) {
-    const std::size_t m = std::min(n, count - k);
     const double* in[4] = {node, offset, closed, asf};
     for (int a = 0; a < 4; ++a) in[a] = VectorItems(d, in[a], k, count, pad[a]);
     V k_low, k_high;
     GatherNodePair(d, k_table, hn::ShiftLeft<2>(hn::ConvertTo(di, hn::LoadU(d, in[0]))), &k_low, &k_high);  // floats -> bytes
     const V value = hn::Mul(hn::Mul(Lerp(k_low, k_high, hn::LoadU(d, in[1]), one), hn::LoadU(d, in[2])), hn::LoadU(d, in[3]));
-    if (m == n) {
-      hn::StoreU(value, d, factor + k);
-    } else {
-      hn::Store(value, d, out);
-      std::copy(out, out + m, factor + k);
-    }
+    StoreItems(d, value, factor, k, count);
   }
 }
 

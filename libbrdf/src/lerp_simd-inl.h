@@ -1,9 +1,9 @@
 // Internal, per SIMD target (Google Highway's -inl.h pattern: re-included once per target by
 // foreach_target.h): linear interpolation in lanes with lut.cpp's scalar operations, its node pairs
-// fetched by gathers and its partial vectors padded, for the trilinear lookups (trilinear_simd.cpp)
-// and the kernel layout's K (kernel_k_simd.cpp). Both
-// files are compiled with -ffp-contract=off (libbrdf/CMakeLists.txt), so that Lerp's two
-// multiplies and add round as the scalar formula's do.
+// fetched by gathers, for the trilinear lookups (trilinear_simd.cpp) and the kernel layout's K
+// (kernel_k_simd.cpp), both compiled with -ffp-contract=off (libbrdf/CMakeLists.txt), so that
+// Lerp's two multiplies and add round as the scalar formula's do; and the partial last vector of a
+// span, read padded (VectorItems) and stored in part (StoreItems), which asf_batch.cpp uses too.
 #if defined(LIBBRDF_LERP_SIMD_INL_H_) == defined(HWY_TARGET_TOGGLE)
 #ifdef LIBBRDF_LERP_SIMD_INL_H_
 #undef LIBBRDF_LERP_SIMD_INL_H_
@@ -59,6 +59,20 @@ HWY_INLINE const T* VectorItems(D d, const T* items, std::size_t first, std::siz
   if (m == n) return items + first;
   for (std::size_t j = 0; j < n; ++j) padded[j] = items[first + std::min(j, m - 1)];
   return padded;
+}
+
+// Stores the lanes of v that are items [first, count) of `items` (all of them but in a span's last,
+// partial vector).
+template <class D>
+HWY_INLINE void StoreItems(D d, hn::Vec<D> v, hn::TFromD<D>* items, std::size_t first, std::size_t count) {
+  const std::size_t n = hn::Lanes(d), m = std::min(n, count - first);
+  if (m == n) {
+    hn::StoreU(v, d, items + first);
+    return;
+  }
+  alignas(64) hn::TFromD<D> lanes[HWY_MAX_BYTES / sizeof(hn::TFromD<D>)];
+  hn::Store(v, d, lanes);
+  std::copy(lanes, lanes + m, items + first);
 }
 
 }  // namespace HWY_NAMESPACE
