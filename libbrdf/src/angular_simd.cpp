@@ -20,33 +20,45 @@ namespace libbrdf::detail {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-// out[r stride + k] = value(load(geos + block start), r)[lane] for rows r < rows over the span:
-// full blocks, the last one shifted back to end at `count` (it recomputes a few values
-// identically), or a padded copy when the span is shorter than one vector. load reads what the
-// rows share (several channels' Qbar: the sines and cosines) once per block. Each function is
-// called (and inlined) at one place only: inlined at two, the compiler contracted their
-// multiply-adds differently, and F(theta_d) of one query alone differed in its last bits from the
-// same query's in a longer span (7320 of 20000 random geometries, gold at 0.55 um).
-template <class D, class Load, class Value>
+// kVectors vectors of one row's values (ForEachBlockRows' blocks of kVectors vectors).
+template <class V, std::size_t kVectors>
+struct VectorRun {
+  V v[kVectors];
+};
+
+// out[r stride + k] = value(load(geos + block start), r)[lane] for rows r < rows over the span, in
+// blocks of kVectors vectors (value returns a vector, or a VectorRun of kVectors): full blocks, the
+// last one shifted back to end at `count` (it recomputes a few values identically), or a padded
+// copy when the span is shorter than one block. load reads what the rows share (several channels'
+// Qbar: the sines and cosines) once per block. Each function is called (and inlined) at one place
+// only: inlined at two, the compiler contracted their multiply-adds differently, and F(theta_d)
+// of one query alone differed in its last bits from the same query's in a longer span (7320 of
+// 20000 random geometries, gold at 0.55 um).
+template <std::size_t kVectors = 1, class D, class Load, class Value>
 HWY_INLINE void ForEachBlockRows(D d, const ScatterGeometry* geos, std::size_t count, int rows, double* out, std::size_t stride,
                                  const Load& load, const Value& value) {
-  const std::size_t n = hn::Lanes(d);
+  const std::size_t n = hn::Lanes(d), width = kVectors * n;
   if (count == 0) return;
-  constexpr std::size_t kMaxLanes = HWY_MAX_BYTES / sizeof(double);
-  const bool short_span = count < n;
-  ScatterGeometry pad[kMaxLanes];
-  double padded_out[kMaxLanes];
+  constexpr std::size_t kMaxWidth = kVectors * HWY_MAX_BYTES / sizeof(double);
+  const bool short_span = count < width;
+  ScatterGeometry pad[kMaxWidth];
+  double padded_out[kMaxWidth];
   if (short_span)
-    for (std::size_t k = 0; k < n; ++k) pad[k] = geos[std::min(k, count - 1)];  // the last geometry repeated
+    for (std::size_t k = 0; k < width; ++k) pad[k] = geos[std::min(k, count - 1)];  // the last geometry repeated
   const ScatterGeometry* in = short_span ? pad : geos;
-  const std::size_t span = short_span ? n : count;
-  for (std::size_t k = 0; k < span; k += n) {
-    const std::size_t at = std::min(k, span - n);
+  const std::size_t span = short_span ? width : count;
+  for (std::size_t k = 0; k < span; k += width) {
+    const std::size_t at = std::min(k, span - width);
     const auto shared = load(in + at);
     for (int r = 0; r < rows; ++r) {
-      double* row = out + r * stride;
-      hn::StoreU(value(shared, r), d, (short_span ? padded_out : row) + at);
-      if (short_span) std::copy(padded_out, padded_out + count, row);
+      double* row = (short_span ? padded_out : out + r * stride) + at;
+      if constexpr (kVectors == 1) {
+        hn::StoreU(value(shared, r), d, row);
+      } else {
+        const auto run = value(shared, r);
+        for (std::size_t j = 0; j < kVectors; ++j) hn::StoreU(run.v[j], d, row + j * n);
+      }
+      if (short_span) std::copy(padded_out, padded_out + count, out + r * stride);
     }
   }
 }
@@ -229,6 +241,46 @@ void ScatterGeometries(const ScatterAngles* angles, std::size_t count, ScatterGe
   if (k < count) two_step(k, count - k);
 }
 
+// Stover's Qbar (fresnel.h, stover_q) of one vector of geometries from their sines and cosines,
+// the real parts of z = eps - sin^2 theta of both directions (Im z = Im eps) and |eps - 1|^2 / 2:
+// the one formula of StoverQBarSpan's double and single-precision lanes.
+template <class D, class V = hn::Vec<D>>
+HWY_INLINE V StoverQBarOf(D d, const V* trig, V z_i_re, V z_s_re, V er, V ei, V half_e2) {
+  const V ci = trig[kCosI], si = trig[kSinI], cs = trig[kCosS], ss = trig[kSinS], cphi = trig[kCosPhi], sphi = trig[kSinPhi];
+  // w = sqrt(eps - sin^2 theta) for i and s, and |w|^2 = |eps - sin^2 theta|.
+  V wir, wii, wsr, wsi, w2i, w2s;
+  ComplexSqrtPair(d, z_i_re, z_s_re, ei, &wir, &wii, &w2i, &wsr, &wsi, &w2s);
+  const V n_si = Norm(hn::Add(ci, wir), wii), n_ss = Norm(hn::Add(cs, wsr), wsi);  // |cos + w|^2
+  const V n_pi = Norm(hn::MulAdd(er, ci, wir), hn::MulAdd(ei, ci, wii));            // |eps cos + w|^2
+  const V n_ps = Norm(hn::MulAdd(er, cs, wsr), hn::MulAdd(ei, cs, wsi));
+  // Stover's azimuth phi = phi_s - pi: cos phi = -cos phi_s; only squares and the pp term use it.
+  const V cos_phi = hn::Sub(hn::Zero(d), cphi);
+  const V sin2 = hn::Mul(sphi, sphi);
+  // pp's numerator: |wi ws cos phi - eps sin ti sin ts|^2. Its two parts are ~|eps| each and can
+  // cancel to ~1: the numerator's error grows as |eps| times the rounding (QBarPrecision).
+  const V sin_product = hn::Mul(si, ss);
+  const V prod_re = hn::NegMulAdd(wii, wsi, hn::Mul(wir, wsr)), prod_im = hn::MulAdd(wir, wsi, hn::Mul(wii, wsr));
+  const V a_re = hn::NegMulAdd(er, sin_product, hn::Mul(prod_re, cos_phi));
+  const V a_im = hn::NegMulAdd(ei, sin_product, hn::Mul(prod_im, cos_phi));
+  // (Q_ss + Q_sp + Q_ps + Q_pp) / 2 over the one denominator n_si n_ss n_pi n_ps (|eps| <= ~1e6:
+  // products of four norms stay far inside the double range). Four sqrt and two divisions per
+  // vector, where the four Q's and two roots each divided (the divider bounds this loop): per
+  // query, `brdf eval --timing` minus `--model g`, 1e6 queries, one CPU, best of 5, same run,
+  // Qbar 6.0 -> 4.2 ns and mbk 17.3 -> 15.2 ns (polished); errors against stover_q unchanged,
+  // 9.6e-14 at most over 300 indices n in [1e-3, 1e3], kappa 0 or in [1e-4, 1e3]. (The one
+  // denominator alone, with the roots' two divisions, had measured no change.)
+  const V sum = hn::MulAdd(hn::Mul(cos_phi, cos_phi), hn::Mul(n_pi, n_ps),
+                           hn::MulAdd(hn::Mul(w2s, sin2), hn::Mul(n_pi, n_ss),
+                                      hn::MulAdd(hn::Mul(w2i, sin2), hn::Mul(n_si, n_ps), hn::Mul(Norm(a_re, a_im), hn::Mul(n_si, n_ss)))));
+  return hn::Mul(half_e2, hn::Div(sum, hn::Mul(hn::Mul(n_si, n_ss), hn::Mul(n_pi, n_ps))));
+}
+
+// |eps - 1|^2 / 2, the common factor of the four Q's, in double (no cancellation where eps ~ 1).
+inline double HalfNormEpsMinusOne(double eps_re, double eps_im) {
+  const double er1 = eps_re - 1.0;
+  return 0.5 * (er1 * er1 + eps_im * eps_im);
+}
+
 // Several channels' Qbar at once (the kernel layout's wavelengths): the sines and cosines are
 // read from the records once per block for every channel. 3-channel closed-form kernel lookups
 // (gold, sigma_s = 0.02 um, 8000 cached geometries, best of 2000 passes, four alternated runs):
@@ -237,7 +289,6 @@ void StoverQBarSpan(const double* eps_re, const double* eps_im, int channels, co
                     std::size_t channel_stride) {
   const hn::ScalableTag<double> d;
   using V = hn::Vec<decltype(d)>;
-  const V zero = hn::Zero(d);
   struct Trig {
     V field[6];
   };
@@ -248,37 +299,54 @@ void StoverQBarSpan(const double* eps_re, const double* eps_im, int channels, co
   };
   ForEachBlockRows(d, geos, count, channels, out, channel_stride, load, [&](const Trig& t, int channel) {
     const V er = hn::Set(d, eps_re[channel]), ei = hn::Set(d, eps_im[channel]);
-    // |eps - 1|^2, the common factor of the four Q's.
-    const double er1 = eps_re[channel] - 1.0;
-    const V e2 = hn::Set(d, er1 * er1 + eps_im[channel] * eps_im[channel]);
-    const V* trig = t.field;
-    const V ci = trig[kCosI], si = trig[kSinI], cs = trig[kCosS], ss = trig[kSinS], cphi = trig[kCosPhi], sphi = trig[kSinPhi];
-    // w = sqrt(eps - sin^2 theta) for i and s, and |w|^2 = |eps - sin^2 theta|.
-    V wir, wii, wsr, wsi, w2i, w2s;
-    ComplexSqrtPair(d, hn::NegMulAdd(si, si, er), hn::NegMulAdd(ss, ss, er), ei, &wir, &wii, &w2i, &wsr, &wsi, &w2s);
-    const V n_si = Norm(hn::Add(ci, wir), wii), n_ss = Norm(hn::Add(cs, wsr), wsi);  // |cos + w|^2
-    const V n_pi = Norm(hn::MulAdd(er, ci, wir), hn::MulAdd(ei, ci, wii));            // |eps cos + w|^2
-    const V n_ps = Norm(hn::MulAdd(er, cs, wsr), hn::MulAdd(ei, cs, wsi));
-    // Stover's azimuth phi = phi_s - pi: cos phi = -cos phi_s; only squares and the pp term use it.
-    const V cos_phi = hn::Sub(zero, cphi);
-    const V sin2 = hn::Mul(sphi, sphi);
-    // pp's numerator: |wi ws cos phi - eps sin ti sin ts|^2.
-    const V sin_product = hn::Mul(si, ss);
-    const V prod_re = hn::NegMulAdd(wii, wsi, hn::Mul(wir, wsr)), prod_im = hn::MulAdd(wir, wsi, hn::Mul(wii, wsr));
-    const V a_re = hn::NegMulAdd(er, sin_product, hn::Mul(prod_re, cos_phi));
-    const V a_im = hn::NegMulAdd(ei, sin_product, hn::Mul(prod_im, cos_phi));
-    // (Q_ss + Q_sp + Q_ps + Q_pp) / 2 over the one denominator n_si n_ss n_pi n_ps (|eps| <= ~1e6:
-    // products of four norms stay far inside the double range). Four sqrt and two divisions per
-    // vector, where the four Q's and two roots each divided (the divider bounds this loop): per
-    // query, `brdf eval --timing` minus `--model g`, 1e6 queries, one CPU, best of 5, same run,
-    // Qbar 6.0 -> 4.2 ns and mbk 17.3 -> 15.2 ns (polished); errors against stover_q unchanged,
-    // 9.6e-14 at most over 300 indices n in [1e-3, 1e3], kappa 0 or in [1e-4, 1e3]. (The one
-    // denominator alone, with the roots' two divisions, had measured no change.)
-    const V sum = hn::MulAdd(hn::Mul(cos_phi, cos_phi), hn::Mul(n_pi, n_ps),
-                             hn::MulAdd(hn::Mul(w2s, sin2), hn::Mul(n_pi, n_ss),
-                                        hn::MulAdd(hn::Mul(w2i, sin2), hn::Mul(n_si, n_ps), hn::Mul(Norm(a_re, a_im), hn::Mul(n_si, n_ss)))));
-    return hn::Mul(hn::Mul(hn::Set(d, 0.5), e2), hn::Div(sum, hn::Mul(hn::Mul(n_si, n_ss), hn::Mul(n_pi, n_ps))));
+    const V si = t.field[kSinI], ss = t.field[kSinS];
+    return StoverQBarOf(d, t.field, hn::NegMulAdd(si, si, er), hn::NegMulAdd(ss, ss, er), er, ei,
+                        hn::Set(d, HalfNormEpsMinusOne(eps_re[channel], eps_im[channel])));
   });
+}
+
+// The same in single-precision lanes (QBarPrecision::single, angular_simd.h): two vectors of
+// geometries (2 x 8 queries on AVX3) in one vector of floats, which has twice the lanes and cheaper
+// square roots and divisions. z = eps - sin^2 theta is taken in double and then rounded: near a
+// critical angle (n < 1) its real part cancels, and its root would carry the square root of the
+// single-precision rounding. AVX3, one core, same run: Qbar of 3 metals, 4000 cached geometries
+// in spans of 256, 7.0 -> 4.5 ns per query; 3-channel closed-form kernel lookups (gold,
+// sigma_s = 0.005 um, 4000 cached geometries) 24.2-24.3 -> 21.7-21.9 ns.
+void StoverQBarSingleSpan(const double* eps_re, const double* eps_im, int channels, const ScatterGeometry* geos, std::size_t count,
+                          double* out, std::size_t channel_stride) {
+#if HWY_TARGET == HWY_SCALAR  // one lane: no vector of two halves; the double lanes
+  StoverQBarSpan(eps_re, eps_im, channels, geos, count, out, channel_stride);
+#else
+  const hn::ScalableTag<double> d;
+  const hn::Rebind<float, decltype(d)> dh;  // as many floats as d has doubles
+  const hn::Twice<decltype(dh)> df;         // both vectors' floats
+  using V = hn::Vec<decltype(d)>;
+  using VF = hn::Vec<decltype(df)>;
+  const std::size_t n = hn::Lanes(d);
+  auto single = [&](V lower, V upper) { return hn::Combine(df, hn::DemoteTo(dh, upper), hn::DemoteTo(dh, lower)); };
+  struct Trig {
+    V sin_i[2], sin_s[2];
+    VF field[6];
+  };
+  auto load = [&](const ScatterGeometry* g) {
+    V lower[6], upper[6];
+    LoadRecords(d, g, 6, lower);
+    LoadRecords(d, g + n, 6, upper);
+    Trig t;
+    for (int f = 0; f < 6; ++f) t.field[f] = single(lower[f], upper[f]);
+    t.sin_i[0] = lower[kSinI], t.sin_i[1] = upper[kSinI], t.sin_s[0] = lower[kSinS], t.sin_s[1] = upper[kSinS];
+    return t;
+  };
+  ForEachBlockRows<2>(d, geos, count, channels, out, channel_stride, load, [&](const Trig& t, int channel) {
+    const V er = hn::Set(d, eps_re[channel]);
+    const VF z_i = single(hn::NegMulAdd(t.sin_i[0], t.sin_i[0], er), hn::NegMulAdd(t.sin_i[1], t.sin_i[1], er));
+    const VF z_s = single(hn::NegMulAdd(t.sin_s[0], t.sin_s[0], er), hn::NegMulAdd(t.sin_s[1], t.sin_s[1], er));
+    const VF q = StoverQBarOf(df, t.field, z_i, z_s, hn::Set(df, static_cast<float>(eps_re[channel])),
+                              hn::Set(df, static_cast<float>(eps_im[channel])),
+                              hn::Set(df, static_cast<float>(HalfNormEpsMinusOne(eps_re[channel], eps_im[channel]))));
+    return VectorRun<V, 2>{{hn::PromoteTo(d, hn::LowerHalf(dh, q)), hn::PromoteTo(d, hn::UpperHalf(dh, q))}};
+  });
+#endif
 }
 
 void FresnelDSpan(double eps_re, double eps_im, const ScatterGeometry* geos, std::size_t count, double* out) {
@@ -339,6 +407,7 @@ HWY_EXPORT(ScatterTrig);
 HWY_EXPORT(GeometriesFromTrig);
 HWY_EXPORT(ScatterGeometries);
 HWY_EXPORT(StoverQBarSpan);
+HWY_EXPORT(StoverQBarSingleSpan);
 HWY_EXPORT(FresnelDSpan);
 HWY_EXPORT(RenormalizationSpan);
 
@@ -352,8 +421,11 @@ void geometries_from_trig(const double* trig, std::size_t count, ScatterGeometry
   HWY_DYNAMIC_DISPATCH(GeometriesFromTrig)(trig, count, geos);
 }
 void stover_q_bar_span(const double* eps_re, const double* eps_im, int channels, const ScatterGeometry* geos, std::size_t count,
-                       double* out, std::size_t channel_stride) {
-  HWY_DYNAMIC_DISPATCH(StoverQBarSpan)(eps_re, eps_im, channels, geos, count, out, channel_stride);
+                       double* out, std::size_t channel_stride, QBarPrecision precision) {
+  if (precision == QBarPrecision::single)
+    HWY_DYNAMIC_DISPATCH(StoverQBarSingleSpan)(eps_re, eps_im, channels, geos, count, out, channel_stride);
+  else
+    HWY_DYNAMIC_DISPATCH(StoverQBarSpan)(eps_re, eps_im, channels, geos, count, out, channel_stride);
 }
 void fresnel_d_span(double eps_re, double eps_im, const ScatterGeometry* geos, std::size_t count, double* out) {
   HWY_DYNAMIC_DISPATCH(FresnelDSpan)(eps_re, eps_im, geos, count, out);

@@ -6,6 +6,7 @@
 // other transcendental function) propagated through the formulas; <= 1e-13 relative (tests/cpp/test_fresnel.cpp,
 // test_renormalization.cpp, test_geometry.cpp), except Qbar at grazing for |eps| ~ 1e6, where the
 // scalar formula itself is good to ~1e-10 only (both agree to 3e-10 there).
+#include <cmath>
 #include <cstddef>
 
 #include "libbrdf/geometry.h"
@@ -23,11 +24,23 @@ void geometries_from_trig(const double* trig, std::size_t count, ScatterGeometry
 // scatter_trig then geometries_from_trig.
 void scatter_geometries(const ScatterAngles* angles, std::size_t count, ScatterGeometry* geos);
 
+// The arithmetic of stover_q_bar_span. double: within 1e-13 of stover_q (the model paths). single:
+// float lanes from the double geometry, for the kernel layout's lookups, whose error budget is 1e-3
+// (lut.h); their error grows with |eps| (the pp term's cancellation, angular_simd.cpp), so they
+// serve only permittivities inside qbar_single_precision_range.
+enum class QBarPrecision { double_, single };
+// 1e-3 <= |eps| <= 100 and |eps - 1| >= 1e-3: single-precision Qbar within 3e-5 of the double one
+// there (Fresnel.SinglePrecisionQbarWithinItsBoundOnEveryTarget: 6e-6 to 8e-6 measured). Every
+// built-in material (materials.h) lies inside over its whole table: |eps| <= 79 (Al, 0.775 um).
+inline bool qbar_single_precision_range(double eps_re, double eps_im) {
+  const double magnitude = std::hypot(eps_re, eps_im);
+  return magnitude >= 1e-3 && magnitude <= 100.0 && std::hypot(eps_re - 1.0, eps_im) >= 1e-3;
+}
 // Qbar = (Q_s + Q_p)/2 of Stover (fresnel.h, stover_q) at each geometry for each of `channels`
 // permittivities eps_re[c] + i eps_im[c]: out[c channel_stride + k] for geos[k]. A channel's
 // values are the same bits whatever the other channels are.
 void stover_q_bar_span(const double* eps_re, const double* eps_im, int channels, const ScatterGeometry* geos, std::size_t count,
-                       double* out, std::size_t channel_stride);
+                       double* out, std::size_t channel_stride, QBarPrecision precision = QBarPrecision::double_);
 // One permittivity.
 inline void stover_q_bar_span(double eps_re, double eps_im, const ScatterGeometry* geos, std::size_t count, double* out) {
   stover_q_bar_span(&eps_re, &eps_im, 1, geos, count, out, 0);

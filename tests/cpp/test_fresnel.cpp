@@ -1,10 +1,12 @@
 // Fresnel reflectance and Stover's polarization factors (conventions.md): limits and the specular
 // identities Q_s = R_s, Q_p = R_p, Qbar = F. References in long-double complex arithmetic.
 #include <gtest/gtest.h>
+#include <hwy/targets.h>  // HWY_SCALAR
 
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <cstdint>
 #include <random>
 #include <vector>
 
@@ -208,4 +210,56 @@ TEST(Fresnel, MultiChannelQbarSpanGivesEachChannelsOwnBits) {
     }
   }
 }
+// The kernel layout's single-precision Qbar (angular_simd.h): inside qbar_single_precision_range
+// within 3e-5 of the double lanes on every Highway target, at metals up to |eps| = 100, dielectrics,
+// n < 1 at and near its critical angle, and polar angles up to 89.999 deg; a query's value is the
+// same bits alone as in a span (its lanes are paired two vectors at a time); outside the range
+// (|eps| > 100, eps ~ 1) the layout keeps the double lanes.
+TEST(Fresnel, SinglePrecisionQbarWithinItsBoundOnEveryTarget) {
+  std::vector<ScatterGeometry> geos;
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<double> polar(0.0, deg(89.999)), grazing(deg(89.0), deg(89.999)), azimuth(0.0, 2 * kPi);
+  for (int k = 0; k < 400; ++k) geos.push_back(make_scatter_geometry({polar(rng), polar(rng), azimuth(rng)}));
+  for (int k = 0; k < 100; ++k) geos.push_back(make_scatter_geometry({grazing(rng), grazing(rng), azimuth(rng)}));
+  const double critical = std::asin(0.6);  // n = 0.6, kappa = 0: z = eps - sin^2 theta_i crosses 0
+  for (double offset : {-1e-9, 0.0, 1e-9, 1e-6})
+    geos.push_back(make_scatter_geometry({critical + offset, polar(rng), azimuth(rng)}));
+  std::vector<double> eps_re, eps_im;
+  for (double n : {0.05, 0.2, 0.6, 0.97, 1.03, 1.5, 4.0, 9.9})
+    for (double kappa : {0.0, 1e-3, 0.5, 3.0, 9.9}) {
+      const std::complex<double> eps = std::complex<double>(n, kappa) * std::complex<double>(n, kappa);
+      if (!detail::qbar_single_precision_range(eps.real(), eps.imag())) continue;
+      eps_re.push_back(eps.real()), eps_im.push_back(eps.imag());
+    }
+  ASSERT_GE(eps_re.size(), 30u);
+  EXPECT_FALSE(detail::qbar_single_precision_range(101.0, 0.0));
+  EXPECT_FALSE(detail::qbar_single_precision_range(-20.0, 98.0));
+  EXPECT_FALSE(detail::qbar_single_precision_range(1.0, 5e-4));
+  EXPECT_TRUE(detail::qbar_single_precision_range(-99.0, 10.0));
+  const int channels = static_cast<int>(eps_re.size());
+  const std::size_t count = geos.size();
+  libbrdf_test::for_each_simd_target([&](std::int64_t target) {
+    std::vector<double> single(channels * count), exact(channels * count);
+    detail::stover_q_bar_span(eps_re.data(), eps_im.data(), channels, geos.data(), count, single.data(), count, detail::QBarPrecision::single);
+    detail::stover_q_bar_span(eps_re.data(), eps_im.data(), channels, geos.data(), count, exact.data(), count);
+    double worst = 0.0;
+    for (std::size_t k = 0; k < single.size(); ++k) {
+      ASSERT_TRUE(std::isfinite(single[k]) && single[k] > 0.0) << "k " << k;
+      worst = std::max(worst, relative_difference(single[k], exact[k]));
+    }
+    EXPECT_LE(worst, 3e-5);
+    if (target != HWY_SCALAR) {  // single precision indeed (one lane: the double lanes)
+      EXPECT_GE(worst, 1e-8);
+    }
+    RecordProperty("max_rel_diff_" + std::string(hwy::TargetName(target)), std::to_string(worst));
+    for (std::size_t length : {std::size_t{1}, std::size_t{5}, std::size_t{17}, std::size_t{37}}) {
+      std::vector<double> part(length);
+      for (int c : {0, channels - 1}) {
+        detail::stover_q_bar_span(&eps_re[c], &eps_im[c], 1, geos.data() + 3, length, part.data(), 0, detail::QBarPrecision::single);
+        for (std::size_t k = 0; k < length; ++k) ASSERT_EQ(part[k], single[c * count + 3 + k]) << "length " << length << " k " << k;
+      }
+    }
+  });
+}
+
 }  // namespace

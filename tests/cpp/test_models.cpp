@@ -3,7 +3,6 @@
 // for every model name (no NaN/Inf, no negative values), and the span path (evaluate_many) against
 // evaluate() for every model.
 #include <gtest/gtest.h>
-#include <hwy/targets.h>
 
 #include <cmath>
 #include <random>
@@ -357,12 +356,7 @@ TEST(SpanPath, ValueDependsOnItsOwnQueryOnlyForEveryModel) {
   for (int k = 0; k < 13 * 40; ++k) angles.push_back({polar(rng), polar(rng), azimuth(rng)});
   ModelParameters p = surface_parameters(0.1, 2.0, 0.55, {0.2, 3.0});
   p.rho_d = 0.1;
-  struct RestoreTargets {  // also when an assertion leaves the loop
-    ~RestoreTargets() { hwy::SetSupportedTargetsForTest(0); }
-  } restore;
-  for (const std::int64_t target : hwy::SupportedAndGeneratedTargets()) {
-    SCOPED_TRACE(hwy::TargetName(target));
-    hwy::SetSupportedTargetsForTest(target);
+  libbrdf_test::for_each_simd_target([&](std::int64_t) {
     for (double tolerance : {1e-6, 1e-4}) {
       p.tolerance = tolerance;
       for (ModelKind kind : all_models()) {
@@ -381,7 +375,7 @@ TEST(SpanPath, ValueDependsOnItsOwnQueryOnlyForEveryModel) {
         }
       }
     }
-  }
+  });
 }
 
 }  // namespace

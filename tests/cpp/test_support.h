@@ -2,7 +2,11 @@
 // Independent reference machinery for the core tests: a long-double brute-force MBK series, the
 // test's own Gauss-Legendre rules and an adaptive integrator. Nothing here calls the library, so
 // the references do not share code (or bugs) with the functions under test.
+#include <gtest/gtest.h>
+#include <hwy/targets.h>
+
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <random>
 #include <vector>
@@ -158,5 +162,19 @@ inline double relative_difference(double a, double b) {
 }
 
 inline constexpr double deg(double degrees) { return degrees * 3.14159265358979323846 / 180.0; }
+
+// body(target) on every Highway target this machine runs and the build generated, with the
+// dispatch forced to it (and restored afterwards, also when an assertion leaves body).
+template <class Body>
+void for_each_simd_target(const Body& body) {
+  struct RestoreTargets {
+    ~RestoreTargets() { hwy::SetSupportedTargetsForTest(0); }
+  } restore;
+  for (const std::int64_t target : hwy::SupportedAndGeneratedTargets()) {
+    SCOPED_TRACE(hwy::TargetName(target));
+    hwy::SetSupportedTargetsForTest(target);
+    body(target);
+  }
+}
 
 }  // namespace libbrdf_test

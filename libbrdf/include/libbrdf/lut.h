@@ -62,7 +62,9 @@
 //                S of eq. 22 and the G of microfacet.h with the channel's sigma_g and G term,
 //                Lut::kernel_sigma_g and kernel_g_term, header attributes libbrdf:kernel_sigma_g and
 //                libbrdf:kernel_g_term) and its table holds P~ = 1 on 2^3 nodes (checked when read
-//                or written; lookups do not interpolate it). Why: Qbar is not smooth everywhere. For n < 1 (k = 0) it and F(theta_d) have square-root kinks at
+//                or written; lookups do not interpolate it). mbk's lookups take Qbar in single
+//                precision where 1e-3 <= |eps| <= 100 and |eps - 1| >= 1e-3 (every built-in
+//                material): within 3e-5 of the double Qbar, against the 1e-3 promised. Why: Qbar is not smooth everywhere. For n < 1 (k = 0) it and F(theta_d) have square-root kinks at
 //                the critical angle (measured: n = 0.5 tabulated at 54^3, max relative error 0.78,
 //                at theta_d = 30 deg), and for metals with large kappa at short l_c it is steep at
 //                grazing (Al, sigma_s = 0.05 um, l_c = 1 um: 4.5e-3); closed form, only K (1D) and
