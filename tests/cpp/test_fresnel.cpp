@@ -8,6 +8,7 @@
 #include <complex>
 #include <cstdint>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "angular_simd.h"
@@ -210,11 +211,12 @@ TEST(Fresnel, MultiChannelQbarSpanGivesEachChannelsOwnBits) {
     }
   }
 }
+
 // The kernel layout's single-precision Qbar (angular_simd.h): inside qbar_single_precision_range
 // within 3e-5 of the double lanes on every Highway target, at metals up to |eps| = 100, dielectrics,
 // n < 1 at and near its critical angle, and polar angles up to 89.999 deg; a query's value is the
-// same bits alone as in a span (its lanes are paired two vectors at a time); outside the range
-// (|eps| > 100, eps ~ 1) the layout keeps the double lanes.
+// same bits alone as in a span (its lanes are paired two vectors at a time); the range refuses
+// |eps| > 100 and eps ~ 1 (where the layout keeps the double lanes).
 TEST(Fresnel, SinglePrecisionQbarWithinItsBoundOnEveryTarget) {
   std::vector<ScatterGeometry> geos;
   std::mt19937_64 rng(31);

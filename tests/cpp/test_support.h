@@ -1,7 +1,8 @@
 #pragma once
 // Independent reference machinery for the core tests: a long-double brute-force MBK series, the
 // test's own Gauss-Legendre rules and an adaptive integrator. Nothing here calls the library, so
-// the references do not share code (or bugs) with the functions under test.
+// the references do not share code (or bugs) with the functions under test. Also the loop that
+// runs a test body on every Highway target (for_each_simd_target).
 #include <gtest/gtest.h>
 #include <hwy/targets.h>
 
