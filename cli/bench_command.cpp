@@ -415,7 +415,7 @@ class Bench {
       return v[1];
     };
     fill_errors(row, values_on(full_, green), ref.values);
-    // Timed through LutSampler (lut.h: channel-interleaved nodes for the trilinear layouts, the
+    // Timed through LutSampler (lut.h: channel-interleaved nodes for the trilinear layouts and the P~ table, the
     // values of lookup_all_batch) on one thread, as a renderer would call it for RGB.
     std::vector<double> out(full_.geometries.size() * 3);
     row.evals_per_s = rate_per_second(

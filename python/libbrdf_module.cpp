@@ -465,7 +465,7 @@ Out-of-domain values raise libbrdf.InvalidArgument (a ValueError) naming the par
   py::class_<libbrdf::LutSampler>(m, "LutSampler",
                                   "A table prepared for lookups of all its channels at once (lut.h): sampler(theta_i, "
                                   "theta_s, phi_s) gives Lut(...) of every channel, bit for bit, as an array [..., channel]; "
-                                  "faster for RGB (channel-interleaved nodes for rusinkiewicz and merl). Keeps its own copy.")
+                                  "faster for RGB (channel-interleaved nodes for rusinkiewicz, merl and the kernel layout's P~ table). Keeps its own copy.")
       .def(py::init<libbrdf::Lut>(), py::arg("lut"))
       .def("__call__", [](const libbrdf::LutSampler& self, py::handle theta_i, py::handle theta_s, py::handle phi_s) {
              return over_angles(

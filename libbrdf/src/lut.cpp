@@ -183,69 +183,16 @@ double slice_value(const Lut& lut, const detail::TableAngles& angles, int channe
   return (1.0 - t0) * lerp(row0[i1], row0[i1 + 1], t1) + t0 * lerp(row1[i1], row1[i1 + 1], t1);
 }
 
-// Kernel layout's angular factor P~: Catmull-Rom (cubic, interpolating) on each axis, 4 x 4 x 4
-// nodes, end nodes repeated beyond the edges. Trilinear left 0.12-0.16% max relative error on
-// 54^3 nodes (intermediate/rough mbk, theta <= 85 deg); the cubic's error falls as h^3-h^4.
-struct CubicAxis {
-  int first;         // node index of the stencil's first weight (may be -1 or n - 3: clamped on use)
-  double weight[4];
-  CubicAxis(double x, int nodes) {
-    x = std::clamp(x, 0.0, double(nodes - 1));
-    const int i = std::min(static_cast<int>(x), nodes - 2);
-    const double t = x - i, t2 = t * t, t3 = t2 * t;
-    first = i - 1;
-    weight[0] = 0.5 * (-t3 + 2.0 * t2 - t);
-    weight[1] = 0.5 * (3.0 * t3 - 5.0 * t2 + 2.0);
-    weight[2] = 0.5 * (-3.0 * t3 + 4.0 * t2 + t);
-    weight[3] = 0.5 * (t3 - t2);
-  }
-  static int node(int j, int nodes) { return std::clamp(j, 0, nodes - 1); }
-};
-
 // Channels whose closed-form factors are evaluated together (kernel_closed_form_span: Qbar reads
 // the geometries once for all of them): RGB in one group.
 constexpr int kKernelChannelGroup = 4;
-
-// P~ of channels [first, first + count) at one query: the stencil is shared by the channels.
-void kernel_angular_factors(const Lut& lut, const detail::TableAngles& a, int first_channel, int channel_count, double* out) {
-  const std::array<double, 3> span = detail::lut_axis_spans(lut.layout, lut.shape);
-  const int n0 = lut.shape[0], n1 = lut.shape[1], n2 = lut.shape[2];
-  const CubicAxis x0(a.theta_h / (0.5 * kPi) * span[0], n0), x1(a.theta_d / (0.5 * kPi) * span[1], n1), x2(a.phi_d / kPi * span[2], n2);
-  std::size_t rows[16];  // offsets of the 4 x 4 (theta_h, theta_d) rows along phi_d
-  int k2[4];
-  for (int m = 0; m < 4; ++m) k2[m] = CubicAxis::node(x2.first + m, n2);
-  for (int a0 = 0; a0 < 4; ++a0)
-    for (int a1 = 0; a1 < 4; ++a1)
-      rows[4 * a0 + a1] = (static_cast<std::size_t>(CubicAxis::node(x0.first + a0, n0)) * n1 + CubicAxis::node(x1.first + a1, n1)) * n2;
-  const float* first = lut.values.data() + static_cast<std::size_t>(first_channel) * lut.nodes_per_channel();
-  if (x2.first >= 0 && x2.first + 3 <= n2 - 1) {  // the phi_d taps adjacent: in lanes
-    for (std::size_t& row : rows) row += static_cast<std::size_t>(x2.first);
-    detail::catmull_rom_rows(first, lut.nodes_per_channel(), channel_count, rows, x0.weight, x1.weight, x2.weight, out);
-    return;
-  }
-  for (int c = 0; c < channel_count; ++c) {
-    const float* values = lut.values.data() + static_cast<std::size_t>(first_channel + c) * lut.nodes_per_channel();
-    double sum = 0.0;
-    for (int a0 = 0; a0 < 4; ++a0) {
-      double sum1 = 0.0;
-      for (int a1 = 0; a1 < 4; ++a1) {
-        const float* row = values + rows[4 * a0 + a1];
-        double along_phi = 0.0;
-        for (int m = 0; m < 4; ++m) along_phi += x2.weight[m] * double(row[k2[m]]);
-        sum1 += x1.weight[a1] * along_phi;
-      }
-      sum += x0.weight[a0] * sum1;
-    }
-    out[c] = sum;
-  }
-}
 
 // Kernel layout: f = K(theta_i) F(theta_d) [closed-form factor] P~ (pi l_c^2/lambda^2) Sigma(g, c)
 // (lut.h), eqs 10-12, for a span of queries; Sigma of each channel through the batch ASF
 // (mbk_series.h) at kKernelLayoutSigmaTolerance (lut.h). angles: the table angles of the P~ table
 // form (table_angles_for); the closed form reads none.
 void kernel_span(const Lut& lut, const ScatterGeometry* geos, const detail::TableAngles* angles, std::size_t count,
-                 int first_channel, int channel_count, double* values) {
+                 int first_channel, int channel_count, double* values, const float* interleaved) {
   // Blocks of 256: 3-channel closed-form lookups 44-47 -> 42-44 ns against blocks of 64
   // (bench_lookup, three alternated runs).
   constexpr std::size_t kBlock = 256;
@@ -270,12 +217,14 @@ void kernel_span(const Lut& lut, const ScatterGeometry* geos, const detail::Tabl
   // The closed form's table holds P~ = 1 at every node (checked when read: check_lut_consistency):
   // nothing to interpolate, and the product of the other factors is the value (1 x it, bit for bit).
   const bool ones = lut.kernel_angular == KernelAngular::closed_form;
+  const std::array<double, 3> span = detail::lut_axis_spans(lut.layout, lut.shape);  // theta_h, theta_d over [0, pi/2]; phi_d over [0, pi]
+  detail::KernelAngularView p_tilde{lut.values.data(), lut.nodes_per_channel(), 1, {lut.shape[0], lut.shape[1], lut.shape[2]},
+                                    {span[0] / (0.5 * kPi), span[1] / (0.5 * kPi), span[2] / kPi}};
+  if (interleaved) p_tilde.values = interleaved, p_tilde.channel_stride = 1, p_tilde.node_floats = channel_count;
   for (std::size_t begin = 0; begin < count; begin += kBlock) {
     const std::size_t n = std::min(kBlock, count - begin);
     const ScatterGeometry* block = geos + begin;
-    if (!ones)
-      for (std::size_t k = 0; k < n; ++k)
-        kernel_angular_factors(lut, angles[begin + k], first_channel, channel_count, values + (begin + k) * channel_count);
+    if (!ones) detail::kernel_angular_span(p_tilde, angles + begin, n, first_channel, channel_count, values + begin * channel_count);
     for (std::size_t k = 0; k < n; ++k) cos_sum[k] = block[k].cos_theta_i + block[k].cos_theta_s, eta_r2[k] = block[k].eta_r2;
     // |cos ti + cos ts| (g is its square); where it is 0, so is g, outside the table: its ln g is not read.
     for (std::size_t k = 0; k < n; ++k) ln_cos_sum[k] = std::abs(cos_sum[k]);
@@ -324,33 +273,32 @@ void detail::table_angles_for(const Lut& lut, const ScatterGeometry* geos, std::
 }
 
 void detail::lookup_span(const Lut& lut, const ScatterGeometry* geos, const TableAngles* angles, std::size_t count,
-                         int first_channel, int channel_count, double* values) {
+                         int first_channel, int channel_count, double* values, const float* interleaved) {
   if (lut.layout == LutLayout::slice) {
     for (std::size_t k = 0; k < count; ++k)
       for (int c = 0; c < channel_count; ++c) values[k * channel_count + c] = slice_value(lut, angles[k], first_channel + c);
     return;
   }
   if (lut.layout == LutLayout::kernel) {
-    kernel_span(lut, geos, angles, count, first_channel, channel_count, values);
+    kernel_span(lut, geos, angles, count, first_channel, channel_count, values, interleaved);
     return;
   }
-  detail::trilinear_span(trilinear_view(lut), angles, count, first_channel, channel_count, values);
+  detail::TrilinearView view = trilinear_view(lut);
+  if (interleaved) view.interleaved = interleaved, view.node_floats = channel_count;
+  detail::trilinear_span(view, angles, count, first_channel, channel_count, values);
 }
 
 namespace {
 // Every channel at `count` geometries, a block at a time: the block's table coordinates, then its
-// lookups (trilinear ones from `interleaved` where given: LutSampler).
+// lookups (from `interleaved` where given: LutSampler).
 void lookup_all_blocks(const Lut& lut, const float* interleaved, const ScatterGeometry* geos, std::size_t count, double* values) {
   constexpr std::size_t kBlock = 256;
   detail::TableAngles angles[kBlock];
   const int channels = lut.channels();
-  detail::TrilinearView view{};
-  if (interleaved) view = trilinear_view(lut), view.interleaved = interleaved, view.node_floats = channels;
   for (std::size_t begin = 0; begin < count; begin += kBlock) {
     const std::size_t n = std::min(kBlock, count - begin);
     detail::table_angles_for(lut, geos + begin, n, angles, begin);
-    if (interleaved) detail::trilinear_span(view, angles, n, 0, channels, values + begin * channels);
-    else detail::lookup_span(lut, geos + begin, angles, n, 0, channels, values + begin * channels);
+    detail::lookup_span(lut, geos + begin, angles, n, 0, channels, values + begin * channels, interleaved);
   }
 }
 }  // namespace
@@ -363,10 +311,12 @@ LutSampler::LutSampler(Lut lut) : lut_(std::move(lut)) {
   detail::check_lut_consistency(lut_, "LutSampler");
   const int channels = lut_.channels();
   const bool trilinear = lut_.layout == LutLayout::rusinkiewicz || lut_.layout == LutLayout::merl;
-  if (!trilinear || channels < 2 || channels > detail::kInterleavedNodeFloats) return;
+  const bool p_tilde_table = lut_.layout == LutLayout::kernel && lut_.kernel_angular == KernelAngular::table;
+  if (!(trilinear || p_tilde_table) || channels < 2 || channels > detail::kInterleavedNodeFloats) return;
   const std::size_t nodes = lut_.nodes_per_channel(), stride = static_cast<std::size_t>(channels);
-  // Padding: a lookup loads kInterleavedNodeFloats floats from a node's first channel.
-  interleaved_.assign(nodes * stride + detail::kInterleavedNodeFloats, 0.0f);
+  // Padding: a trilinear lookup loads kInterleavedNodeFloats floats from a node's first channel; a
+  // P~ row's last vector reads past the row.
+  interleaved_.assign(nodes * stride + (trilinear ? detail::kInterleavedNodeFloats : detail::kKernelInterleavedPadding), 0.0f);
   for (int c = 0; c < channels; ++c)
     for (std::size_t i = 0; i < nodes; ++i) interleaved_[stride * i + c] = lut_.values[c * nodes + i];
 }

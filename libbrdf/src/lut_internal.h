@@ -71,13 +71,26 @@ void trilinear_span(const TrilinearView& table, const TableAngles* angles, std::
 bool k_positions_span(int nodes, const ScatterGeometry* geos, std::size_t count, double* node, double* offset);
 void k_factors_span(const float* k_table, const double* node, const double* offset, const double* closed, const double* asf, std::size_t count,
                     double* factor);
-// Kernel layout, the P~ table (kernel_angular_simd.cpp): out[c] = sum over the 16 rows r = 4 a0 + a1
-// and the 4 taps m of theta_h_weights[a0] theta_d_weights[a1] phi_weights[m]
-// values[c channel_stride + rows[r] + m], for channels c < channel_count: a Catmull-Rom stencil
-// whose phi_d taps are adjacent (not clamped). Summed in single precision (~1e-7 relative, the
-// table's own floats; the layout promises 1e-3).
-void catmull_rom_rows(const float* values, std::size_t channel_stride, int channel_count, const std::size_t* rows,
-                      const double* theta_h_weights, const double* theta_d_weights, const double* phi_weights, double* out);
+// Kernel layout, the P~ table (kernel_angular_simd.cpp): channel c's node (i0, i1, i2) at
+// values[c channel_stride + node_floats ((i0 nodes[1] + i1) nodes[2] + i2)]: planar (the Lut's
+// values: node_floats 1, channel_stride the nodes per channel) or channel-interleaved (LutSampler:
+// node_floats = the channels, 2 to kInterleavedNodeFloats, channel_stride 1, followed by
+// kKernelInterleavedPadding floats). The node position of an axis is its table angle (theta_h,
+// theta_d, phi_d) times nodes_per_radian.
+inline constexpr std::size_t kKernelInterleavedPadding = 64;  // a row's last vector reads past the row
+struct KernelAngularView {
+  const float* values;
+  std::size_t channel_stride;
+  int node_floats;
+  int nodes[3];
+  double nodes_per_radian[3];
+};
+// P~ of channels [first, first + channel_count) at `count` queries, out[k channel_count + c]
+// (interleaved: every channel, first_channel 0):
+// Catmull-Rom on each axis (4 x 4 x 4 nodes, end nodes repeated), summed in single precision
+// (~1e-7 relative, the table's own floats; the layout promises 1e-3).
+void kernel_angular_span(const KernelAngularView& table, const TableAngles* angles, std::size_t count, int first_channel,
+                         int channel_count, double* out);
 // Kernel layout: the closed-form part of the angular factor P of a channel (lut.h), evaluated at
 // lookup; the table holds P~ = P / K / that. F(theta_d) times F_bk^2 of eq. 26 (bk), 1/S of eq. 28
 // (bk-modified), G/S (mbk-fg in the closed form), 1 (mbk-fg and mbk with the table form); Stover's
@@ -89,9 +102,10 @@ void kernel_closed_form_span(const Lut& lut, int first_channel, int channel_coun
 // True when the closed-form part is all of P (the table holds 1).
 bool kernel_angular_all_closed(ModelKind model, KernelAngular angular);
 // Interpolated values of channels [first, first + channel_count) at `count` geometries with their
-// TableAngles: values[k * channel_count + c].
+// TableAngles: values[k * channel_count + c]. interleaved: LutSampler's channel-interleaved copy of
+// a trilinear table's or a P~ table's values (every channel: first_channel 0), or null.
 void lookup_span(const Lut& lut, const ScatterGeometry* geos, const TableAngles* angles, std::size_t count, int first_channel,
-                 int channel_count, double* values);
+                 int channel_count, double* values, const float* interleaved = nullptr);
 inline void lookup_channels(const Lut& lut, const ScatterGeometry& geo, const TableAngles& angles, int first_channel,
                             int channel_count, double* values) {
   lookup_span(lut, &geo, &angles, 1, first_channel, channel_count, values);

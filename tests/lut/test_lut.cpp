@@ -24,6 +24,7 @@
 #include "libbrdf/lut.h"
 #include "libbrdf/materials.h"
 #include "lut_internal.h"
+#include "test_support.h"
 
 namespace {
 
@@ -263,11 +264,90 @@ TEST(Lut, BatchLookupIsTheDocumentedTrilinearFormula) {
   }
 }
 
-// LutSampler (channel-interleaved nodes for the trilinear layouts) against lookup_all_batch (planar
-// nodes), on every Highway target this CPU runs: the same values to the bit, for 1-4 channels,
-// rusinkiewicz, MERL and kernel (the kernel layout, closed form and P~ table, and 1 channel take
-// lookup_all_batch's path), a count that leaves partial vectors and chunks, and grazing
-// geometries. (An interleaved P~ table was tried: 3-channel lookups 113 -> 127-129 ns.)
+// LutSampler (channel-interleaved nodes for the trilinear layouts and the kernel layout's P~ table)
+// against lookup_all_batch (planar nodes), on every Highway target this CPU runs: the same values
+// to the bit, for 1-4 channels, rusinkiewicz, MERL and kernel (the kernel layout's closed form and
+// 1 channel take lookup_all_batch's path), a count that leaves partial vectors and chunks, and
+// grazing geometries.
+// The P~ table's span interpolation (kernel_angular_span: stencils moved inside the phi_d rows,
+// weights in SIMD lanes) against the definition, written out here: Catmull-Rom on each axis over
+// nodes i - 1 .. i + 2 with every index clamped to the table (end nodes repeated), summed in long
+// double. Random node values in [0.5, 1.5]; shapes with fewer than 4 nodes on an axis (the padded
+// short rows), exactly 4, and larger; planar (one channel at a time and several) and
+// channel-interleaved (2-4 channels); angles at both ends of every axis and beyond them (clamped),
+// and inside; every Highway target. Allowed: 2e-6 relative (sums of 64 float products).
+TEST(Lut, PTildeSpanMatchesTheCatmullRomDefinition) {
+  const std::array<int, 3> shapes[] = {{2, 3, 2}, {3, 2, 3}, {4, 4, 4}, {5, 7, 4}, {12, 11, 10}, {6, 5, 31}};
+  constexpr double kHalfPi = 0.5 * kPi;
+  std::mt19937_64 rng(27);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<detail::TableAngles> angles;
+  for (double h : {0.0, kHalfPi, 1.7, -0.1})
+    for (double d : {0.0, kHalfPi, 0.3})
+      for (double p : {0.0, kPi, 3.3, 1.0}) angles.push_back({h, d, p, 0.0});
+  for (int k = 0; k < 301; ++k) angles.push_back({unit(rng) * kHalfPi, unit(rng) * kHalfPi, unit(rng) * kPi, 0.0});
+  double worst = 0.0;
+  int targets = 0;
+  libbrdf_test::for_each_simd_target([&](std::int64_t) {
+    ++targets;
+    for (const auto& shape : shapes) {
+      for (int channels = 1; channels <= 4; ++channels) {
+        SCOPED_TRACE(std::to_string(shape[0]) + "x" + std::to_string(shape[1]) + "x" + std::to_string(shape[2]) + ", " +
+                     std::to_string(channels) + " channels");
+        const std::size_t nodes = static_cast<std::size_t>(shape[0]) * shape[1] * shape[2];
+        std::vector<float> planar(nodes * channels), interleaved(nodes * channels + detail::kKernelInterleavedPadding, 0.0f);
+        for (float& v : planar) v = static_cast<float>(0.5 + unit(rng));
+        for (int c = 0; c < channels; ++c)
+          for (std::size_t i = 0; i < nodes; ++i) interleaved[i * channels + c] = planar[c * nodes + i];
+        auto definition = [&](const detail::TableAngles& a, int c) {
+          const double x[3] = {a.theta_h / kHalfPi * (shape[0] - 1), a.theta_d / kHalfPi * (shape[1] - 1), a.phi_d / kPi * (shape[2] - 1)};
+          int first[3];
+          long double w[3][4];
+          for (int axis = 0; axis < 3; ++axis) {
+            const long double u = std::clamp(x[axis], 0.0, shape[axis] - 1.0);
+            const int i = std::min(static_cast<int>(u), shape[axis] - 2);
+            const long double t = u - i;
+            first[axis] = i - 1;
+            w[axis][0] = 0.5L * (-t * t * t + 2 * t * t - t), w[axis][1] = 0.5L * (3 * t * t * t - 5 * t * t + 2);
+            w[axis][2] = 0.5L * (-3 * t * t * t + 4 * t * t + t), w[axis][3] = 0.5L * (t * t * t - t * t);
+          }
+          auto node = [&](int axis, int j) { return std::clamp(first[axis] + j, 0, shape[axis] - 1); };
+          long double sum = 0.0L;
+          for (int a0 = 0; a0 < 4; ++a0)
+            for (int a1 = 0; a1 < 4; ++a1)
+              for (int a2 = 0; a2 < 4; ++a2)
+                sum += w[0][a0] * w[1][a1] * w[2][a2] *
+                       planar[c * nodes + (static_cast<std::size_t>(node(0, a0)) * shape[1] + node(1, a1)) * shape[2] + node(2, a2)];
+          return static_cast<double>(sum);
+        };
+        const detail::KernelAngularView planar_view{planar.data(), nodes, 1, {shape[0], shape[1], shape[2]},
+                                                    {(shape[0] - 1) / kHalfPi, (shape[1] - 1) / kHalfPi, (shape[2] - 1) / kPi}};
+        detail::KernelAngularView interleaved_view = planar_view;
+        interleaved_view.values = interleaved.data(), interleaved_view.channel_stride = 1, interleaved_view.node_floats = channels;
+        std::vector<double> all(angles.size() * channels), one(angles.size()), mixed(angles.size() * channels);
+        detail::kernel_angular_span(planar_view, angles.data(), angles.size(), 0, channels, all.data());
+        detail::kernel_angular_span(planar_view, angles.data(), angles.size(), channels - 1, 1, one.data());
+        if (channels >= 2) detail::kernel_angular_span(interleaved_view, angles.data(), angles.size(), 0, channels, mixed.data());
+        for (std::size_t k = 0; k < angles.size(); ++k) {
+          for (int c = 0; c < channels; ++c) {
+            const double expected = definition(angles[k], c), got = all[k * channels + c];
+            ASSERT_TRUE(std::isfinite(got)) << "query " << k << " channel " << c;
+            worst = std::max(worst, std::abs(got / expected - 1.0));
+            ASSERT_NEAR(got / expected, 1.0, 2e-6) << "query " << k << " channel " << c;
+            if (channels >= 2) {
+              ASSERT_EQ(mixed[k * channels + c], got) << "interleaved, query " << k << " channel " << c;
+            }
+          }
+          ASSERT_EQ(one[k], all[k * channels + channels - 1]) << "one channel alone, query " << k;
+        }
+      }
+    }
+  });
+  EXPECT_GE(targets, 1);
+  std::cout << "[ measured ] P~ span against the Catmull-Rom definition: largest relative difference " << worst << " on " << targets
+            << " Highway targets\n";
+}
+
 TEST(Lut, SamplerGivesTheBatchLookupsBitForBit) {
   struct Case {
     LutLayout layout;
