@@ -28,6 +28,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "lerp_simd-inl.h"  // SplitIndex, VectorItems
 #include "lut_internal.h"
 
 HWY_BEFORE_NAMESPACE();
@@ -37,15 +38,15 @@ namespace hn = hwy::HWY_NAMESPACE;
 
 constexpr std::size_t kChunk = 64;  // queries whose weights and offsets pass 1 keeps on the stack
 
-// One axis of the stencil at positions x (in nodes) of a table with `nodes` nodes: x clamped to
-// [0, nodes - 1], cell i = min(floor x, nodes - 2), t = x - i; Catmull-Rom weights of nodes
-// i - 1 .. i + 2, whose indices are returned clamped to the table (end nodes repeated).
+// One axis of the stencil at positions x (in nodes) of a table with `nodes` (>= 2) nodes: the cell
+// i and offset t of SplitIndex (x clamped to [0, nodes - 1], i <= nodes - 2); Catmull-Rom weights
+// of nodes i - 1 .. i + 2, whose indices are returned clamped to the table (end nodes repeated).
 template <class D, class V = hn::Vec<D>>
 HWY_INLINE void CubicStencil(D d, V x, int nodes, V* weight, V* node) {
   const V half = hn::Set(d, 0.5), last = hn::Set(d, nodes - 1.0);
-  x = hn::Min(hn::Max(x, hn::Zero(d)), last);
-  const V i = hn::Min(hn::Floor(x), hn::Set(d, nodes - 2.0));
-  const V t = hn::Sub(x, i), t2 = hn::Mul(t, t), t3 = hn::Mul(t2, t);
+  V i, t;
+  SplitIndex(d, x, nodes, &i, &t);
+  const V t2 = hn::Mul(t, t), t3 = hn::Mul(t2, t);
   // 0.5 (-t^3 + 2t^2 - t), 0.5 (3t^3 - 5t^2 + 2), 0.5 (-3t^3 + 4t^2 + t), 0.5 (t^3 - t^2)
   weight[0] = hn::Mul(half, hn::Sub(hn::MulAdd(hn::Set(d, 2.0), t2, hn::Neg(t3)), t));
   weight[1] = hn::Mul(half, hn::MulAdd(hn::Set(d, 3.0), t3, hn::NegMulAdd(hn::Set(d, 5.0), t2, hn::Set(d, 2.0))));
@@ -126,21 +127,14 @@ void KernelAngularSpan(const KernelAngularView& table, const TableAngles* angles
   const V row0 = hn::Set(d, double(n1) * n2), row1 = hn::Mul(hn::Set(d, double(n2)), floats);
   const bool short_rows = n2 < 4;  // fewer phi_d nodes than taps: rows through a padded copy
   ChunkStencils at;
-  alignas(64) double lanes[3][kMaxLanes];
+  TableAngles padded[kMaxLanes];  // a span's last, partial vector of queries
   for (std::size_t begin = 0; begin < count; begin += kChunk) {
     const std::size_t chunk = std::min(kChunk, count - begin);
     for (std::size_t k = 0; k < chunk; k += n) {
       V angle[4];  // theta_h, theta_d, phi_d (and theta_i) of the vector's queries
       static_assert(sizeof(TableAngles) == 4 * sizeof(double), "TableAngles: four doubles");
-      if (k + n <= chunk) {
-        hn::LoadInterleaved4(d, &angles[begin + k].theta_h, angle[0], angle[1], angle[2], angle[3]);
-      } else {
-        for (std::size_t j = 0; j < n; ++j) {  // the last, partial vector: its last query repeated
-          const TableAngles& a = angles[begin + std::min(k + j, chunk - 1)];
-          lanes[0][j] = a.theta_h, lanes[1][j] = a.theta_d, lanes[2][j] = a.phi_d;
-        }
-        for (int axis = 0; axis < 3; ++axis) angle[axis] = hn::Load(d, lanes[axis]);
-      }
+      const TableAngles* queries = VectorItems(d, angles, begin + k, begin + chunk, padded);
+      hn::LoadInterleaved4(d, &queries->theta_h, angle[0], angle[1], angle[2], angle[3]);
       V weight[3][4], node[3][4];
       for (int axis = 0; axis < 3; ++axis)
         CubicStencil(d, hn::Mul(angle[axis], hn::Set(d, table.nodes_per_radian[axis])), table.nodes[axis], weight[axis], node[axis]);
