@@ -37,7 +37,13 @@ speedup_vs_numpy_mbk (numpy_mbk_ns / cli_ns), speedup_inproc_vs_numpy_mbk (numpy
 numpy_mbk_max_rel_err (the timed numpy mbk against the same reference as max_rel_err), and its parts'
 errors at the check points: numpy_k_interp_max_rel_err (the interpolated K against `--model k`) and
 numpy_qbar_max_rel_err (against `--model q`); then module_speedup_cpu_vs_numpy_mbk (numpy mbk CPU /
-module CPU). `brdf eval` reads with std::from_chars and writes each number in its shortest exact digits
+module CPU); last, setup_ns (the model's --timing set-up CPU minus g's, per point: mbk's K by eq. 13's
+quadrature), cli_inproc_with_setup_ns (evaluations plus set-up, best of the rounds, minus g's: what
+one process pays for the model at this many points, CSV I/O excluded) and speedup_inproc_with_setup
+(numpy / that). The in-process columns include each process's first
+touches of the kernel table (its pages and cache lines: a cost per process, not per point, so larger
+per point at fewer points; README, "Fast core").
+`brdf eval` reads with std::from_chars and writes each number in its shortest exact digits
 (std::to_chars): ~0.55 us of I/O per query (was ~2.4 us with strtod/printf, ~0.62 us with %.17g
 digits, whose cost grew with the value's exponent), and the spread of the cancelled difference
 30-200 ns at 1e6 points on a loaded two-core machine: trust cli_ns to about its cli_spread_ns
@@ -148,7 +154,8 @@ def time_cli(brdf, args, path, keep_output=False):
     done = subprocess.run([brdf, "eval", "--timing", *args, "--queries", path], check=True,
                           stdout=subprocess.PIPE if keep_output else subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     inproc = float(re.search(r"evaluations ([0-9.e+-]+) s CPU", done.stderr).group(1))
-    return cpu_children() - t0, done.stdout, inproc
+    setup = float(re.search(r"set-up ([0-9.e+-]+) s CPU", done.stderr).group(1))
+    return cpu_children() - t0, done.stdout, inproc, setup
 
 
 def main():
@@ -178,7 +185,7 @@ def main():
         libbrdf = None
     print("surface,model,tolerance,method,numpy_ns,io_ns,cli_ns,cli_spread_ns,speedup,cli_inproc_ns,speedup_inproc,speedup_inproc_paired,max_rel_err,numpy_max_rel_err,module_cpu_ns,module_wall_ns,module_speedup_cpu,"
           "numpy_mbk_ns,speedup_vs_numpy_mbk,speedup_inproc_vs_numpy_mbk,numpy_mbk_max_rel_err,numpy_k_interp_max_rel_err,"
-          "numpy_qbar_max_rel_err,module_speedup_cpu_vs_numpy_mbk")
+          "numpy_qbar_max_rel_err,module_speedup_cpu_vs_numpy_mbk,setup_ns,cli_inproc_with_setup_ns,speedup_inproc_with_setup")
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "q.csv")
         np.savetxt(path, deg, delimiter=",", fmt="%.17g")
@@ -213,17 +220,20 @@ def main():
                 extra = INDEX_ARGS if model != "asf" else []
                 return ["--model", model, *surface, *extra, "--tolerance", tol, "--asf-method", method]
             io_runs, io_inproc, runs, inproc, outputs = [], [], {c: [] for c in configs}, {c: [] for c in configs}, {}
+            io_setup, setup = [], {c: [] for c in configs}
             numpy_runs = []
             for r in range(a.repeat):  # interleaved: numpy, the I/O run, then every configuration
                 numpy_time, numpy_values = best_cpu(lambda: numpy_asf(ti, ts, ps, **s), 1)  # the same values every round
                 numpy_runs.append(numpy_time)
-                t, _, t_in = time_cli(a.brdf, ["--model", "g", *surface], path)
+                t, _, t_in, t_setup = time_cli(a.brdf, ["--model", "g", *surface], path)
                 io_runs.append(t)
                 io_inproc.append(t_in)
+                io_setup.append(t_setup)
                 for config in configs:
-                    t, out, t_in = time_cli(a.brdf, args(*config), path, keep_output=(r == 0))
+                    t, out, t_in, t_setup = time_cli(a.brdf, args(*config), path, keep_output=(r == 0))
                     runs[config].append(t)
                     inproc[config].append(t_in)
+                    setup[config].append(t_setup)
                     if r == 0:
                         outputs[config] = out
             io, best_np = min(io_runs), min(numpy_runs)
@@ -246,6 +256,12 @@ def main():
                 # a fast phase of one side with a slow phase of the other; paired rounds cannot.
                 paired = [n / (b - i) for n, b, i in zip(numpy_runs, inproc[config], io_inproc) if b > i]
                 per_paired = statistics.median(paired) if paired else math.nan
+                # What the process pays for the model beyond g, CSV I/O excluded but set-up included (mbk's
+                # K by eq. 13's quadrature): the per-process cost a run of this many points sees.
+                per_setup = (min(setup[config]) - min(io_setup)) / a.points * 1e9
+                per_with_setup = (min(b + u for b, u in zip(inproc[config], setup[config]))
+                                  - min(i + v for i, v in zip(io_inproc, io_setup))) / a.points * 1e9
+                setup_columns = f"{per_setup:.1f},{per_with_setup:.1f},{per_np / per_with_setup if per_with_setup > 0 else math.nan:.2f}"
                 module, module_vs_mbk = ",,", ""
                 if libbrdf is not None and method == "auto":  # the module has no asf-method keyword
                     kwargs = dict(sigma_s=s["sigma_s"], lc=s["lc"], wavelength=s["wavelength"], tolerance=float(tol))
@@ -267,7 +283,7 @@ def main():
                     vs_mbk = f"{per_np_mbk:.1f},{per_np_mbk / per_cli:.2f},{per_np_mbk / per_inproc:.2f},{numpy_mbk_columns}"
                 print(f"{name},{model},{tol},{method},{per_np:.1f},{per_io:.1f},{per_cli:.1f},{spread:.1f},{per_np / per_cli:.2f},"
                       f"{per_inproc:.1f},{per_np / per_inproc:.2f},{per_paired:.2f},{diff:.2e},"
-                      f"{numpy_error:.2e},{module},{vs_mbk},{module_vs_mbk}")
+                      f"{numpy_error:.2e},{module},{vs_mbk},{module_vs_mbk},{setup_columns}")
                 sys.stdout.flush()
 
 
