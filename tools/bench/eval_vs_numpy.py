@@ -40,9 +40,9 @@ numpy_qbar_max_rel_err (against `--model q`); then module_speedup_cpu_vs_numpy_m
 module CPU); last, setup_ns (the model's --timing set-up CPU minus g's, per point: mbk's K by eq. 13's
 quadrature), cli_inproc_with_setup_ns (evaluations plus set-up, best of the rounds, minus g's: what
 one process pays for the model at this many points, CSV I/O excluded) and speedup_inproc_with_setup
-(numpy / that). The in-process columns include each process's first
-touches of the kernel table (its pages and cache lines: a cost per process, not per point, so larger
-per point at fewer points; README, "Fast core").
+(numpy / that). The in-process columns include each process's first touches of the kernel table
+(its pages and cache lines): a cost per process, not per point, so larger per point at fewer points
+(README, "Fast core").
 `brdf eval` reads with std::from_chars and writes each number in its shortest exact digits
 (std::to_chars): ~0.55 us of I/O per query (was ~2.4 us with strtod/printf, ~0.62 us with %.17g
 digits, whose cost grew with the value's exponent), and the spread of the cancelled difference
