@@ -4,7 +4,7 @@
 //  - the series (eq. 11) of each lane from its own largest-term guess, by the exact ratios of
 //    consecutive (or every d-th) terms: one exp and one division per term, no lgamma or log per
 //    term; the plan, stride rule and geometric tail bound are those of sum_series_blocks;
-//  - the kernel table's bicubic Hermite lookup (kernel_table.h), each lane's cell rows loaded
+//  - the kernel table's bicubic spline lookup (kernel_table.h), each lane's stencil rows loaded
 //    whole and transposed.
 // Queries whose closed-form regime (eqs. 14, 15) is possible, and lanes outside the lane kernel's
 // domain, go through asf_auto / mbk_series_sum themselves. Every lane computes alone (lane-wise
@@ -292,38 +292,42 @@ std::size_t SeriesQueryLanes(const double* g, const double* c, std::size_t count
   return rejected_count;
 }
 
-// Bicubic Hermite interpolation of ln Sigma (KernelTable::sigma) with one query per lane, in two
-// passes over chunks of kTableChunk queries: the first finds each query's cell and offsets (s, t),
-// the second loads the nodes and interpolates. Split, the node loads of a chunk no longer wait
-// behind each vector's log, and the loads are per lane: the 2 nodes of a cell row are 8
-// contiguous doubles, loaded as one row per lane and transposed so that col[e] holds element e
-// of every lane (16 gathers per vector before). The arithmetic is KernelTable::sigma's, term by
-// term as before (same results to the bit). 1e6 queries, AVX-512, one core, same run: 2.3-2.6x
-// faster than one pass of gathers (the transposition alone: 1.4x). The first pass also prefetches
-// each query's two cell rows (a row's one line in paired slots, KernelTableSpec::paired_nodes;
-// otherwise the lines at both ends of the row): a polished surface's queries
-// spread over ~2.8 MB of the table, past L2, and the second pass's loads then find them on the way.
-// `brdf eval --timing`, asf minus g, 1e6 queries, one CPU, best of 5, same run: 17.0 -> 12.2 ns
-// (polished), 15.0 -> 12.9 (intermediate), 11.8 -> 12.2 (rough: its rows stay in cache, and the
-// prefetches are overhead within the noise). The table's domain test (KernelTable::contains) and
-// the prefactor are lane operations here too, so asf_auto_batch hands every query of a chunk to the
-// table first and routes only those handed back: asf minus g 11.7 -> 11.1 ns (polished),
-// 12.0 -> 10.0 (intermediate), same run, against a scalar contains() pass, a copy and a multiply.
-// The chunks are pipelined (the next chunk's cells located and prefetched before this chunk is
-// interpolated): polished 10.7 -> 10.0 and 11.4 -> 10.4 ns in two same-run comparisons, rough
-// 9.0 -> 8.7, intermediate unchanged.
+// The bicubic spline of ln Sigma (KernelTable::sigma) with one query per lane, in two passes over
+// chunks of kTableChunk queries: the first finds each query's cell and offsets (s, t), the second
+// loads the 4 x 4 stencil and interpolates. Split, a chunk's loads do not wait behind each vector's
+// log; each stencil row is 4 contiguous doubles, loaded per lane and transposed (LoadColumns) so
+// that col[b] holds column b of every lane (one pass of gathers was 2.3-2.6x slower, stop 13). The
+// table's domain test (KernelTable::contains) and the prefactor are lane operations here too, so
+// asf_auto_batch hands every query of a chunk to the table first and routes only those handed back
+// (asf minus g 11.7 -> 11.1 ns polished, 12.0 -> 10.0 intermediate, stop 16).
+// No prefetches. Hermite's paired nodes (41 MB, stops 14-28) spread a polished surface's queries
+// past L2, and prefetching each cell row while locating paid (17.0 -> 12.2 ns). The spline's band
+// of that surface is ~0.9 MB: prefetching the 4 stencil rows (8 lines a query) cost 3.4-4.0 ns a
+// query, and locating the next chunk before interpolating this one (for the prefetches' lead) made
+// no difference without them (within +-0.5 ns). 1e6 queries, warm, one CPU, same run, the issue's
+// three surfaces (stop 29).
 constexpr std::size_t kTableChunk = 64;
+
+// The uniform cubic B-spline's weights at offsets t in [0, 1) (KernelTable::log_sigma's
+// cubic_bspline_weights, lane by lane).
+template <class D, class V = hn::Vec<D>>
+HWY_INLINE void CubicBSplineWeights(D d, V t, V* w) {
+  const V sixth = hn::Set(d, 1.0 / 6.0), u = hn::Sub(hn::Set(d, 1.0), t), t2 = hn::Mul(t, t), t3 = hn::Mul(t2, t);
+  w[0] = hn::Mul(hn::Mul(hn::Mul(u, u), u), sixth);
+  w[1] = hn::Mul(hn::MulAdd(hn::Set(d, 3.0), t3, hn::MulAdd(hn::Set(d, -6.0), t2, hn::Set(d, 4.0))), sixth);
+  w[2] = hn::Mul(hn::MulAdd(hn::Set(d, -3.0), t3, hn::MulAdd(hn::Set(d, 3.0), hn::Add(t2, t), hn::Set(d, 1.0))), sixth);
+  w[3] = hn::Mul(t3, sixth);
+}
 
 std::size_t KernelTableLanes(const KernelTableView& table, const double* g, const double* c, const double* ln_g, std::size_t count,
                              double scale, double* sigma, std::uint32_t* outside) {
-  const double* const nodes = table.nodes;
+  const double* const coefficients = table.coefficients;
   const hn::ScalableTag<double> d;
   const hn::RebindToSigned<decltype(d)> di;
   using V = hn::Vec<decltype(d)>;
   constexpr std::size_t n = hn::MaxLanes(d);
   static_assert(kTableChunk % n == 0, "whole vectors per chunk");
-  const V one = hn::Set(d, 1.0), two = hn::Set(d, 2.0), three = hn::Set(d, 3.0);
-  const V vdx = hn::Set(d, table.dx), vdz = hn::Set(d, table.dz), vdw = hn::Set(d, table.dw);
+  const V one = hn::Set(d, 1.0);
   const V inv_dx = hn::Set(d, 1.0 / table.dx), inv_dz = hn::Set(d, 1.0 / table.dz);
   // scale e^F as e^(F + ln scale) (KernelTable::scaled_sigma): where e^F alone is subnormal (F <
   // -708) but scale e^F is not, no subnormal number is computed, and the value keeps its precision.
@@ -335,25 +339,20 @@ std::size_t KernelTableLanes(const KernelTableView& table, const double* g, cons
   const V g_min = hn::Set(d, kKernelGMin), g_max = hn::Set(d, kKernelGMax);
   const V z_near = hn::Set(d, kKernelZNear), z_far = hn::Set(d, kKernelZFar);
   std::size_t outside_count = 0;
-  // node (i + 1, j) - node (i, j), in each section; the far section's first node (in doubles).
-  const double slot = table.node_doubles;
-  const V near_stride = hn::Set(d, slot * table.nz), far_stride = hn::Set(d, slot * table.nw);
-  const V far_base = hn::Set(d, slot * table.nx * table.nz), vslot = hn::Set(d, slot);
+  // A stencil row to the next, in each section; the far section's first coefficient.
+  const double near_row = table.nz + 2.0, far_row = table.nw + 2.0;
+  const V near_stride = hn::Set(d, near_row), far_stride = hn::Set(d, far_row);
+  const V far_base = hn::Set(d, (table.nx + 2.0) * near_row);
   alignas(64) double gb[kMaxLanes], cb[kMaxLanes], lb[kMaxLanes], out[kMaxLanes];
-  // Two chunks in flight: the cells of chunk k + 1 are located (and their rows prefetched) before
-  // chunk k is interpolated, so that the prefetches lead the loads by a whole chunk.
   struct Cells {
-    // Cell offsets (s, t) and the cell's size in its z coordinate (dz near, dw far; 0 beyond
-    // kKernelZFar, where the value is 0).
-    alignas(64) double s[kTableChunk], t[kTableChunk], dv[kTableChunk];
-    // Index of node (i, j) and of node (i + 1, j) of each query's cell (the far section's rows
-    // are shorter than the near section's).
-    alignas(64) hn::TFromD<decltype(di)> node[2][kTableChunk];
-  } cells[2];
+    // Cell offsets (s, t); beyond[k] = 1 beyond kKernelZFar (where the value is 0), else 0.
+    alignas(64) double s[kTableChunk], t[kTableChunk], beyond[kTableChunk];
+    // Index of each query's first stencil coefficient, and its section's row length.
+    alignas(64) hn::TFromD<decltype(di)> first[kTableChunk], stride[kTableChunk];
+  } cells;
   auto locate = [&](std::size_t k0, Cells& at) {
     double* const s_chunk = at.s;
     double* const t_chunk = at.t;
-    double* const dv_chunk = at.dv;
     const std::size_t chunk = std::min(kTableChunk, count - k0);
     for (std::size_t k = 0; k < chunk; k += n) {
       const std::size_t m = std::min(n, chunk - k);
@@ -387,70 +386,49 @@ std::size_t KernelTableLanes(const KernelTableView& table, const double* g, cons
       // The cell (as KernelTable::sigma): near, column z / dz below kKernelZNear; far, column
       // ln(z / kKernelZNear) / dw of the far section (its log only where a lane needs it); beyond
       // kKernelZFar, a near cell whose value is then replaced by 0.
-      V uv = hn::Mul(z, inv_dz), fj = hn::Min(hn::Floor(uv), hn::Set(d, table.nz - 2.0)), dv = vdz;
-      auto far_cell = hn::FirstN(d, 0);  // none
+      V uv = hn::Mul(z, inv_dz), fj = hn::Min(hn::Floor(uv), hn::Set(d, table.nz - 2.0));
+      auto far_cell = hn::FirstN(d, 0), beyond = hn::FirstN(d, 0);  // none
       const auto far = hn::Gt(z, z_near);
       if (!hn::AllFalse(d, far)) {
-        const auto beyond = hn::Not(hn::Le(z, z_far));  // +Inf too
+        beyond = hn::Not(hn::Le(z, z_far));  // +Inf too
         const V uw = hn::Mul(hn::Log(d, hn::Mul(hn::Min(z, z_far), hn::Set(d, 1.0 / kKernelZNear))), hn::Set(d, 1.0 / table.dw));
         far_cell = hn::AndNot(beyond, far);
         uv = hn::IfThenElse(far_cell, uw, hn::IfThenZeroElse(beyond, uv));
         fj = hn::IfThenElse(far_cell, hn::Min(hn::Floor(uw), hn::Set(d, table.nw - 2.0)), hn::IfThenZeroElse(beyond, fj));
-        dv = hn::IfThenElse(far_cell, vdw, hn::IfThenZeroElse(beyond, vdz));
       }
-      // The cell's first node in its section, and the next row's (the sections' rows differ in length).
-      const V node = hn::IfThenElse(far_cell, hn::MulAdd(hn::MulAdd(fi, hn::Set(d, double(table.nw)), fj), vslot, far_base),
-                                    hn::Mul(hn::MulAdd(fi, hn::Set(d, double(table.nz)), fj), vslot));
+      // The stencil's first coefficient in its section (row i, column j), and its row length (the
+      // sections' rows differ).
       const V stride = hn::IfThenElse(far_cell, far_stride, near_stride);
-      hn::Store(hn::Sub(ux, fi), d, s_chunk + k), hn::Store(hn::Sub(uv, fj), d, t_chunk + k), hn::Store(dv, d, dv_chunk + k);
-      hn::Store(hn::ConvertTo(di, node), di, at.node[0] + k), hn::Store(hn::ConvertTo(di, hn::Add(node, stride)), di, at.node[1] + k);
-      if (table.prefetch_rows) {
-        // A paired slot is one aligned line; otherwise the row's lines at both ends.
-        const bool row_is_one_line = table.node_doubles == 8;
-        for (std::size_t q = 0; q < n; ++q)
-          for (std::size_t a = 0; a < 2; ++a) {
-            const double* row = nodes + at.node[a][k + q];
-            hwy::Prefetch(row);
-            if (!row_is_one_line) hwy::Prefetch(row + 7);
-          }
-      }
+      const V first = hn::MulAdd(fi, stride, hn::IfThenElse(far_cell, hn::Add(far_base, fj), fj));
+      hn::Store(hn::Sub(ux, fi), d, s_chunk + k), hn::Store(hn::Sub(uv, fj), d, t_chunk + k);
+      hn::Store(hn::IfThenElseZero(beyond, one), d, at.beyond + k);
+      hn::Store(hn::ConvertTo(di, first), di, at.first + k), hn::Store(hn::ConvertTo(di, stride), di, at.stride + k);
     }
   };
   auto interpolate = [&](std::size_t k0, const Cells& at) {
     const double* const s_chunk = at.s;
     const double* const t_chunk = at.t;
-    const double* const dv_chunk = at.dv;
     const std::size_t chunk = std::min(kTableChunk, count - k0);
     for (std::size_t k = 0; k < chunk; k += n) {
-      const V s = hn::Load(d, s_chunk + k), t = hn::Load(d, t_chunk + k), dv = hn::Load(d, dv_chunk + k);
-      // Cubic Hermite basis: values h0, h1; derivatives (times the cell size) d0, d1.
-      const V s2 = hn::Mul(s, s), t2 = hn::Mul(t, t);
-      const V hx1 = hn::Mul(s2, hn::NegMulAdd(two, s, three)), hx0 = hn::Sub(one, hx1);
-      const V gx0 = hn::Mul(hn::Mul(s, hn::Mul(hn::Sub(s, one), hn::Sub(s, one))), vdx);
-      const V gx1 = hn::Mul(hn::Mul(s2, hn::Sub(s, one)), vdx);
-      const V hz1 = hn::Mul(t2, hn::NegMulAdd(two, t, three)), hz0 = hn::Sub(one, hz1);
-      const V gz0 = hn::Mul(hn::Mul(t, hn::Mul(hn::Sub(t, one), hn::Sub(t, one))), dv);
-      const V gz1 = hn::Mul(hn::Mul(t2, hn::Sub(t, one)), dv);
-      const V hx[2] = {hx0, hx1}, gx[2] = {gx0, gx1}, hz[2] = {hz0, hz1}, gz[2] = {gz0, gz1};
+      const V s = hn::Load(d, s_chunk + k), t = hn::Load(d, t_chunk + k);
+      V wx[4], wv[4];
+      CubicBSplineWeights(d, s, wx);
+      CubicBSplineWeights(d, t, wv);
       V f = hn::Zero(d);
-      for (int a = 0; a < 2; ++a) {
-        // Row a of each cell, nodes (i + a, j) and (i + a, j + 1): col[4b + l] = element l of node b.
-        V col[8];
-        LoadColumns<8>(d, [&](std::size_t q) { return nodes + at.node[a][k + q]; }, col);
-        for (int b = 0; b < 2; ++b) {
-          const V* node = col + 4 * b;  // F, F_x, F_z, F_xz
-          f = hn::MulAdd(hx[a], hn::MulAdd(hz[b], node[0], hn::Mul(gz[b], node[2])), f);
-          f = hn::MulAdd(gx[a], hn::MulAdd(hz[b], node[1], hn::Mul(gz[b], node[3])), f);
-        }
+      for (std::size_t a = 0; a < 4; ++a) {
+        // Stencil row a of each lane: col[b] = coefficient (i + a, j + b).
+        V col[4];
+        LoadColumns<4>(d, [&](std::size_t q) { return coefficients + at.first[k + q] + a * at.stride[k + q]; }, col);
+        const V row = hn::MulAdd(wv[3], col[3], hn::MulAdd(wv[2], col[2], hn::MulAdd(wv[1], col[1], hn::Mul(wv[0], col[0]))));
+        f = hn::MulAdd(wx[a], row, f);
       }
-      const V value = hn::IfThenZeroElse(hn::Eq(dv, hn::Zero(d)), ExpFullRange(d, hn::Add(f, ln_scale)));
+      const V value = hn::IfThenZeroElse(hn::Ne(hn::Load(d, at.beyond + k), hn::Zero(d)), ExpFullRange(d, hn::Add(f, ln_scale)));
       StoreItems(d, value, sigma, k0 + k, k0 + chunk);
     }
   };
-  if (count > 0) locate(0, cells[0]);
-  for (std::size_t k0 = 0, which = 0; k0 < count; k0 += kTableChunk, which ^= 1) {
-    if (k0 + kTableChunk < count) locate(k0 + kTableChunk, cells[which ^ 1]);
-    interpolate(k0, cells[which]);
+  for (std::size_t k0 = 0; k0 < count; k0 += kTableChunk) {
+    locate(k0, cells);
+    interpolate(k0, cells);
   }
   return outside_count;
 }

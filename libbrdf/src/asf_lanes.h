@@ -24,19 +24,16 @@ inline constexpr double kLaneMaxStride = 16.0;
 std::size_t series_query_lanes(const double* g, const double* c, std::size_t count, double relative_tolerance,
                                double* sigma, std::uint32_t* rejected);
 
-// A kernel table's grid and nodes (KernelTable::nodes()): a slot of S = node_doubles doubles per
-// node, whose first 8 doubles are (F, F_x, F_v, F_xv) of the node and of its right neighbour; near
-// node (i, j) at S (i nz + j) (v = z, spacing dz), far node (i, k) at S (nx nz + i nw + k) (v = w,
-// spacing dw).
+// A kernel table's grid and spline coefficients (KernelTable::coefficients()): near coefficient
+// (r, q) at r (nz + 2) + q (v = z, spacing dz), far at (nx + 2)(nz + 2) + r (nw + 2) + q (v = w,
+// spacing dw); cell (i, j)'s stencil is rows i .. i + 3, columns j .. j + 3.
 struct KernelTableView {
-  const double* nodes;
+  const double* coefficients;
   int nx, nz, nw;
   double x_min, dx, dz, dw;
-  bool prefetch_rows;  // KernelTableSpec's
-  int node_doubles;    // KernelTableSpec::node_doubles(): doubles per node slot (KernelTable::nodes())
 };
 
-// The kernel table's bicubic Hermite lookup (KernelTable::sigma) in lanes: out[k] = scale exp(F(ln g, v))
+// The kernel table's bicubic spline lookup (KernelTable::sigma) in lanes: out[k] = scale exp(F(ln g, v))
 // for every query inside the table (KernelTable::contains, the same test lane by lane; 0 beyond
 // kKernelZFar). Returns the number of queries outside, their indices in outside[] (out[k] is
 // unspecified there: the caller evaluates them otherwise). ln_g: ln g[k] as the caller has it

@@ -1,6 +1,6 @@
-// The universal kernel table of Sigma(g, c) (kernel_table.h): computed from the reference series'
-// moments (at build time, into the library: kernel_table_file.h), looked up by bicubic Hermite
-// interpolation of ln Sigma.
+// The universal kernel table of Sigma(g, c) (kernel_table.h): node values of ln Sigma and its
+// edge derivatives from the reference series' moments, turned into clamped bicubic spline
+// coefficients (at build time, into the library: kernel_table_file.h), looked up as a B-spline.
 #include "libbrdf/kernel_table.h"
 
 #include <tbb/blocked_range.h>
@@ -39,6 +39,41 @@ void node_values(double x, double z, double* out) {
   out[3] = 2.0 * z * (-g * m.c * inv_a + (g + 1.0) * ((-m.d + gz2 * m.e) * inv_a + m.c * fx_num * inv_a * inv_a));
 }
 
+// The clamped cubic spline through f[0 .. n) on unit-spaced nodes, as cubic B-spline coefficients
+// c[0 .. n + 2) (c[k] multiplies the B-spline centred on node k - 1), with end slopes slope0,
+// slope1 (per node spacing). Interpolation: f_j = (c_j + 4 c_{j+1} + c_{j+2}) / 6; the slopes:
+// slope = (c_{j+2} - c_j) / 2 at j = 0 and n - 1. Eliminating c_0 and c_{n+1} leaves a tridiagonal
+// system in c_1 .. c_n, strictly diagonally dominant (4 against 1 + 1, or 2 at the ends), solved by
+// elimination without pivoting. n >= 2.
+void clamped_cubic_spline(const double* f, int n, double slope0, double slope1, double* c) {
+  std::vector<double> diagonal(n, 4.0 / 6.0), rhs(f, f + n);
+  const double lower = 1.0 / 6.0;  // below and above the diagonal but at the ends (2/6 there)
+  rhs[0] += slope0 / 3.0;
+  rhs[n - 1] -= slope1 / 3.0;
+  std::vector<double> upper(n, lower);
+  upper[0] = 2.0 / 6.0;
+  for (int j = 1; j < n; ++j) {
+    const double below = j == n - 1 ? 2.0 / 6.0 : lower;
+    const double factor = below / diagonal[j - 1];
+    diagonal[j] -= factor * upper[j - 1];
+    rhs[j] -= factor * rhs[j - 1];
+  }
+  c[n] = rhs[n - 1] / diagonal[n - 1];
+  for (int j = n - 2; j >= 0; --j) c[j + 1] = (rhs[j] - upper[j] * c[j + 2]) / diagonal[j];
+  c[0] = c[2] - 2.0 * slope0;
+  c[n + 1] = c[n - 1] + 2.0 * slope1;
+}
+
+// The uniform cubic B-spline's weights at offset t in [0, 1) of a cell, for the coefficients of
+// the nodes one before, at, after and two after the cell's first node.
+void cubic_bspline_weights(double t, double* w) {
+  const double u = 1.0 - t, t2 = t * t, t3 = t2 * t;
+  w[0] = u * u * u / 6.0;
+  w[1] = (3.0 * t3 - 6.0 * t2 + 4.0) / 6.0;
+  w[2] = (-3.0 * t3 + 3.0 * t2 + 3.0 * t + 1.0) / 6.0;
+  w[3] = t3 / 6.0;
+}
+
 const KernelTableSpec& spec_of(KernelTable::Tier tier) {
   return tier == KernelTable::Tier::fine ? kKernelTableFine : kKernelTableCoarse;
 }
@@ -56,38 +91,52 @@ KernelGrid kernel_grid(const KernelTableSpec& spec) {
   grid.nx = static_cast<int>(std::ceil((std::log(kKernelGMax) - grid.x_min) / grid.dx)) + 2;
   grid.nz = static_cast<int>(std::ceil(kKernelZNear / grid.dz)) + 2;
   grid.nw = static_cast<int>(std::ceil(std::log(kKernelZFar / kKernelZNear) / grid.dw)) + 2;
-  grid.node_doubles = spec.node_doubles();
   return grid;
 }
 }  // namespace detail
 
-std::vector<double> KernelTable::compute_nodes(Tier tier) {
+std::vector<double> KernelTable::compute_coefficients(Tier tier) {
   const detail::KernelGrid grid = detail::kernel_grid(spec_of(tier));
-  const std::size_t slot = static_cast<std::size_t>(grid.node_doubles);
-  std::vector<double> nodes(grid.values(), 0.0);
-  double* const far_block = &nodes[slot * grid.nx * grid.nz];
-  // Paired slots: each node's four values again at the end of its left neighbour's slot.
-  auto pair_with_left = [&](double* row, int count) {
-    if (slot == 8)
-      for (int j = 1; j < count; ++j) std::copy(row + slot * j, row + slot * j + 4, row + slot * (j - 1) + 4);
-  };
-  tbb::parallel_for(tbb::blocked_range<int>(0, grid.nx), [&](const tbb::blocked_range<int>& rows) {
-    for (int i = rows.begin(); i != rows.end(); ++i) {
-      const double x = grid.x_min + i * grid.dx;
-      double* near_row = &nodes[slot * i * grid.nz];
-      for (int j = 0; j < grid.nz; ++j) node_values(x, j * grid.dz, near_row + slot * j);
-      pair_with_left(near_row, grid.nz);
-      double* far_row = far_block + slot * i * grid.nw;
-      for (int k = 0; k < grid.nw; ++k) {
-        double* node = far_row + slot * k;
-        const double z = kKernelZNear * std::exp(k * grid.dw);
-        node_values(x, z, node);
-        node[2] *= z, node[3] *= z;  // d/dw = z d/dz
+  std::vector<double> coefficients(grid.values(), 0.0);
+  // One section (near: v = z, far: v = w): node values (F, F_x, F_v, F_xv) in v, then the spline
+  // along v in every row (F, with F_v at the row's ends; F_x too in the first and last rows, with
+  // F_xv: the x-slopes of the column splines below), then along x in every column of those
+  // coefficients. A tensor product of clamped splines is the clamped bicubic spline.
+  auto section = [&](bool far, double* out) {
+    const int n = far ? grid.nw : grid.nz;
+    const double dv = far ? grid.dw : grid.dz;
+    const std::size_t row = static_cast<std::size_t>(n) + 2;
+    std::vector<double> along_v(grid.nx * row), x_slope_first(row), x_slope_last(row);
+    tbb::parallel_for(tbb::blocked_range<int>(0, grid.nx), [&](const tbb::blocked_range<int>& rows) {
+      std::vector<double> f(n), node(4 * static_cast<std::size_t>(n));
+      for (int i = rows.begin(); i != rows.end(); ++i) {
+        double* const values = node.data();  // (F, F_x, F_v, F_xv) of the row's nodes
+        for (int j = 0; j < n; ++j) {
+          const double z = far ? kKernelZNear * std::exp(j * grid.dw) : j * grid.dz;
+          node_values(grid.x_min + i * grid.dx, z, values + 4 * j);
+          if (far) values[4 * j + 2] *= z, values[4 * j + 3] *= z;  // d/dw = z d/dz
+        }
+        for (int j = 0; j < n; ++j) f[j] = values[4 * j];
+        clamped_cubic_spline(f.data(), n, dv * values[2], dv * values[4 * (n - 1) + 2], &along_v[i * row]);
+        if (i == 0 || i == grid.nx - 1) {
+          for (int j = 0; j < n; ++j) f[j] = values[4 * j + 1];
+          clamped_cubic_spline(f.data(), n, dv * values[3], dv * values[4 * (n - 1) + 3],
+                               i == 0 ? x_slope_first.data() : x_slope_last.data());
+        }
       }
-      pair_with_left(far_row, grid.nw);
-    }
-  });
-  return nodes;
+    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, row), [&](const tbb::blocked_range<std::size_t>& columns) {
+      std::vector<double> f(grid.nx), c(grid.rows());
+      for (std::size_t q = columns.begin(); q != columns.end(); ++q) {
+        for (int i = 0; i < grid.nx; ++i) f[i] = along_v[i * row + q];
+        clamped_cubic_spline(f.data(), grid.nx, grid.dx * x_slope_first[q], grid.dx * x_slope_last[q], c.data());
+        for (std::size_t r = 0; r < grid.rows(); ++r) out[r * row + q] = c[r];
+      }
+    });
+  };
+  section(false, coefficients.data());
+  section(true, coefficients.data() + grid.rows() * grid.near_row());
+  return coefficients;
 }
 
 const KernelTable& KernelTable::instance(Tier tier) {
@@ -107,8 +156,8 @@ KernelTable::KernelTable(Tier tier) : tier_(tier), spec_(spec_of(tier)) {
   nx_ = grid.nx, nz_ = grid.nz, nw_ = grid.nw, x_min_ = grid.x_min, dx_ = grid.dx, dz_ = grid.dz, dw_ = grid.dw;
   const detail::EmbeddedKernelTable file = detail::embedded_kernel_table();
   if (file.data == nullptr) {  // the generator itself
-    computed_ = compute_nodes(tier);
-    nodes_ = computed_.data();
+    computed_ = compute_coefficients(tier);
+    coefficients_ = computed_.data();
   } else {
     // The embedded file holds every tier's section in order; each must be its grid's: a mismatch
     // is a stale build, never a table to use.
@@ -124,10 +173,10 @@ KernelTable::KernelTable(Tier tier) : tier_(tier), spec_(spec_of(tier)) {
       matches = std::memcmp(header.magic, detail::kKernelTableMagic, sizeof header.magic) == 0 && header.nx == expected.nx &&
                 header.nz == expected.nz && header.nw == expected.nw && header.x_min == expected.x_min &&
                 header.dx == expected.dx && header.dz == expected.dz && header.dw == expected.dw &&
-                header.node_doubles == expected.node_doubles && header.values == values &&
+                header.spline_border == expected.kSplineBorder && header.values == values &&
                 file.size >= offset + sizeof header + values * sizeof(double);
       if (!matches) break;
-      if (section == tier) nodes_ = reinterpret_cast<const double*>(file.data + offset + sizeof header);
+      if (section == tier) coefficients_ = reinterpret_cast<const double*>(file.data + offset + sizeof header);
       offset += sizeof header + values * sizeof(double);
     }
     if (!matches || offset != file.size)
@@ -149,34 +198,25 @@ double KernelTable::log_sigma(double g, double c) const {
   const double u_x = (std::log(g) - x_min_) / dx_;
   // The cell's column j in its section and the offset t in it: near in z, far in w = ln(z / kKernelZNear).
   const double u_v = far ? std::log(z / kKernelZNear) / dw_ : z / dz_;
-  const double dv = far ? dw_ : dz_;
   const int row_nodes = far ? nw_ : nz_;
-  const std::size_t slot = static_cast<std::size_t>(spec_.node_doubles());
-  const double* section = far ? nodes_ + slot * nx_ * nz_ : nodes_;
+  const std::size_t row = static_cast<std::size_t>(row_nodes) + 2;
+  const double* section = far ? coefficients_ + static_cast<std::size_t>(nx_ + 2) * (nz_ + 2) : coefficients_;
   const int i = std::min(static_cast<int>(u_x), nx_ - 2);
   const int j = std::min(static_cast<int>(u_v), row_nodes - 2);
-  const double s = u_x - i, t = u_v - j;
-  // Cubic Hermite basis: value weights h0 (left), h1 (right); derivative weights d0, d1 (times
-  // the cell size, applied below).
-  const double s2 = s * s, s3 = s2 * s, t2 = t * t, t3 = t2 * t;
-  const double hx[2] = {2 * s3 - 3 * s2 + 1, -2 * s3 + 3 * s2};
-  const double gx[2] = {(s3 - 2 * s2 + s) * dx_, (s3 - s2) * dx_};
-  const double hz[2] = {2 * t3 - 3 * t2 + 1, -2 * t3 + 3 * t2};
-  const double gz[2] = {(t3 - 2 * t2 + t) * dv, (t3 - t2) * dv};
+  double wx[4], wv[4];
+  cubic_bspline_weights(u_x - i, wx);
+  cubic_bspline_weights(u_v - j, wv);
   double f = 0.0;
-  for (int a = 0; a < 2; ++a) {
-    const double* row = section + slot * (static_cast<std::size_t>(i + a) * row_nodes + j);
-    for (int b = 0; b < 2; ++b) {
-      const double* n = row + 4 * b;  // node (i + a, j + b): the next 4 doubles in either layout
-      f += hx[a] * (hz[b] * n[0] + gz[b] * n[2]) + gx[a] * (hz[b] * n[1] + gz[b] * n[3]);
-    }
+  for (int a = 0; a < 4; ++a) {  // stencil rows i .. i + 3, columns j .. j + 3 (kernel_table.h)
+    const double* r = section + (static_cast<std::size_t>(i) + a) * row + j;
+    f += wx[a] * (wv[0] * r[0] + wv[1] * r[1] + wv[2] * r[2] + wv[3] * r[3]);
   }
   return f;
 }
 
 std::size_t KernelTable::scaled_sigma_inside(const double* g, const double* c, std::size_t count, double scale, double* out,
                                              std::uint32_t* outside, const double* ln_g) const {
-  const detail::KernelTableView view{nodes_, nx_, nz_, nw_, x_min_, dx_, dz_, dw_, spec_.prefetch_rows, spec_.node_doubles()};
+  const detail::KernelTableView view{coefficients_, nx_, nz_, nw_, x_min_, dx_, dz_, dw_};
   return detail::kernel_table_lanes(view, g, c, ln_g, count, scale, out, outside);
 }
 

@@ -1,4 +1,4 @@
-// libbrdf_generate_kernel_table OUT: computes the universal kernel tables' nodes (kernel_table.h,
+// libbrdf_generate_kernel_table OUT: computes the universal kernel tables' spline coefficients (kernel_table.h,
 // every tier) from the series and writes them as kernel_table_file.h's file, which the build
 // assembles into the library (kernel_table_data.S). Linked from every libbrdf source but the
 // embedded data, so KernelTable::instance(tier) here computes the tables itself. Writes OUT.tmp, then renames it: an
@@ -35,10 +35,10 @@ int main(int argc, char** argv) {
       std::memcpy(header.magic, libbrdf::detail::kKernelTableMagic, sizeof header.magic);
       header.nx = grid.nx, header.nz = grid.nz, header.nw = grid.nw;
       header.x_min = grid.x_min, header.dx = grid.dx, header.dz = grid.dz, header.dw = grid.dw;
-      header.node_doubles = grid.node_doubles;
+      header.spline_border = grid.kSplineBorder;
       header.values = table.value_count();
       written = written && std::fwrite(&header, sizeof header, 1, file) == 1 &&
-                std::fwrite(table.nodes(), sizeof(double), table.value_count(), file) == table.value_count();
+                std::fwrite(table.coefficients(), sizeof(double), table.value_count(), file) == table.value_count();
       char line[160];
       std::snprintf(line, sizeof line, "%s%d x (%d + %d) nodes, %.1f MB, certified %g, computed in %.3f s", summary.empty() ? "" : "; ",
                     table.nx(), table.nz(), table.nw(), static_cast<double>(table.bytes()) / 1e6, table.certified_error(), table.build_seconds());

@@ -90,7 +90,7 @@ bool kernel_export_model(ModelKind kind);
 // (outside the nodes the image's edge continues both ends: Sigma -> g e^-c below x_min,
 // e^-(c/g) / g above x_max, Gaussian in eta_r beyond z_max, where Sigma < e^-43 of Sigma(g, 0)).
 // Node values are the library's Sigma (asf_auto at the kernel table's certified error: the
-// kernel table's Hermite interpolant inside its domain, the closed forms outside).
+// kernel table's spline inside its domain, the closed forms outside).
 struct SigmaImage {
   double x_min = 0.0, dx = 0.0, dz = 0.0;
   int width = 0, height = 0;

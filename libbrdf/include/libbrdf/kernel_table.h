@@ -7,13 +7,13 @@
 //
 // depends on no material, wavelength or surface: every ASF model (asf, mbk, mbk-fg, bk,
 // bk-modified) is (K) x (angular factor) x (pi l_c^2/lambda^2) x Sigma(g, c), so one table serves
-// them all. Its nodes (two tiers below) are computed once, at build time, by the series' moments
-// (tools/generate_kernel_table.cpp, ~0.4 s of CPU) and assembled into the library
-// (kernel_table_data.S): a process pays nothing to start it. compute_nodes() recomputes them; a test
-// asserts that the embedded tables are that result bit for bit.
+// them all. Its coefficients (two tiers below) are computed once, at build time, from the series'
+// moments (tools/generate_kernel_table.cpp, ~0.5 s of CPU) and assembled into the library
+// (kernel_table_data.S): a process pays nothing to start it. compute_coefficients() recomputes them;
+// a test asserts that the embedded tables are that result bit for bit.
 //
 // Grid (described in kernel-layout LUT files' metadata): a near section, uniform in z, and a far
-// section, uniform in w = ln(z / kKernelZNear), each a block of nx rows (nodes() below):
+// section, uniform in w = ln(z / kKernelZNear), each a block of rows (coefficients() below):
 //   x = ln g                 nodes x_i = ln kKernelGMin + i dx,              i = 0 .. nx - 1
 //   z = sqrt(c / (g + 1))    near: z_j = j dz,                                j = 0 .. nz - 1
 //                            far:  z_k = kKernelZNear e^(k dw),               k = 0 .. nw - 1
@@ -21,9 +21,20 @@
 // the dominant term index m changes where c ~ m(m+1) ln(1/g), evenly spaced in sqrt(c). ln Sigma is
 // even in z (c = (g+1) z^2), so z = 0 is a symmetry line, not an edge. Beyond kKernelZNear the
 // switches of m spread over ~z / (2 ln 1/g) in z (a width growing with z), so the far section's
-// nodes are spaced evenly in ln z. Each node holds F = ln Sigma and its exact derivatives F_x,
-// F_v, F_xv in its section's coordinate v (z near, w far), from moments of the series, not finite
-// differences; lookups are bicubic Hermite in (x, v), then exp.
+// nodes are spaced evenly in ln z.
+//
+// Representation: per section, the clamped bicubic spline of F = ln Sigma in (x, v) (v = z near,
+// w far): the tensor-product cubic B-spline that takes the node values of F, with the exact
+// derivatives of the series (moments, not finite differences) at the section's edges: F_v at both
+// ends of every row, F_x at the first and last rows, F_xv at the corners. A lookup is 4 x 4
+// coefficients times the B-spline weights of its cell, then exp. It stores one double per node
+// where bicubic Hermite (stops 14-28) stored four (F, F_x, F_v, F_xv), which it needs at every node
+// for the same O(h^4) error: the spline's slopes at the nodes are themselves O(h^4) accurate, so its
+// error has Hermite's leading term. Measured on the fine grid, same sweep (every sixth row of near
+// cells, 159468 points): max 2.71e-7 both, per decade of g the two within 1.5% of each other.
+// 8x fewer bytes than Hermite's paired nodes: a polished surface's band of the fine table,
+// ~7 MB before, now ~0.9 MB, and the pages a process first touches go down as much (README,
+// "Fast core").
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -43,15 +54,18 @@ inline constexpr double kKernelZNear = 30.0;   // end of the near section (unifo
 // do not reach it, pay ~0-0.5 ns per query for the test (within this machine's noise).
 inline constexpr double kKernelZFar = 170.0;
 // Two tables of Sigma on that grid, at two certified errors (tolerance tiers): the fine one for the
-// default tolerance, 1e-6, and a coarse one, 6x fewer nodes, for tolerances >= 1e-4 (`brdf eval
-// --timing`, asf minus g, 1e6 queries, same run: 9.1-9.5 ns at 1e-6, 6.1-6.9 ns at 1e-4). The
-// bicubic error goes as h^4. In z it is largest at small g, where the dominant term m -> m + 1
+// default tolerance, 1e-6, and a coarse one, 6x fewer nodes, for tolerances >= 1e-4
+// (`bench/bench_eval`, asf minus g, p10, two runs: 3.9-4.2 ns at 1e-6, 3.7-3.9 ns at 1e-4; with
+// Hermite nodes it was 5.4-6.0 against 4.1-4.4, the fine tier's band then past L2). The bicubic
+// error goes as h^4. In z it is largest at small g, where the dominant term m -> m + 1
 // switches within ~(m + 1/2) / (2 sqrt(ln 1/g)) in z (0.15 at g = 1e-5); in x at large g and z.
 // Measured max (the sweep below): dz = dx = 1/10: 2.1e-5 (at g = 1.3e-5, z = 5.05); 1/20, 1/25:
 // 4.6e-7 (g ~ 1e-5); 1/20, 1/30: 2.7e-7. 1/10 x 1/8 would be ~5e-5 (h^4), without the margin of 2.
 // Far section: dw = 1/150 with dx = 1/20: 3.0e-7 (at g = 0.19, z = 142); 1/50 with 1/10: 1.8e-5
-// (g = 1.05e-5, z = 32). Sizes: fine 555 x (902 + 263) nodes, 20.7 MB of node values, stored paired
-// (paired_nodes below) in 41.4 MB; coarse 279 x (302 + 89), 3.5 MB.
+// (g = 1.05e-5, z = 32). These were measured with Hermite nodes. The spline, landed grids: fine
+// 2.7e-7 near, 3.0e-7 far; coarse 2.4e-5 near (g = 1.3e-5, z = 5.05), 2.4e-5 far.
+// Sizes: fine 555 x (902 + 263) nodes, 5.2 MB of coefficients (41.4 MB of paired Hermite nodes
+// before); coarse 279 x (302 + 89), 0.9 MB (3.5 MB).
 struct KernelTableSpec {
   int nodes_per_unit_x;    // dx = 1 / this, in ln g
   int nodes_per_unit_z;    // dz = 1 / this (near section)
@@ -61,25 +75,9 @@ struct KernelTableSpec {
   // reports it). The automatic method choice (asf_auto) uses a table only where the caller's
   // tolerance is >= this.
   double certified_error;
-  // Whether lookups prefetch each query's cell rows while locating the cells: in the fine table a
-  // surface's queries spread over MBs, past L2 (17.0 -> 12.2 ns per query, polished); the
-  // coarse table's band of a surface stays in L2, where the prefetches only cost (polished,
-  // single pass: 6.9 -> 5.4 ns per query without them).
-  bool prefetch_rows;
-  // Whether each node is stored twice, as one 64-byte record with its right neighbour (nodes (i, j)
-  // and (i, j + 1), nodes() below): a query's cell row is then one aligned cache line, where 32-byte
-  // nodes put it across two lines half the time (3 lines per query on average -> 2), for twice the
-  // bytes. Measured with both layouts in one process, alternating phases of 25 batches of 4000
-  // queries, each model streaming its inputs as `brdf eval` does (stop 22). Fine tier, asf minus g
-  // per query, median of the phases' differences: polished -1.3 to -1.6 ns, intermediate -1.0 to
-  // -2.1, rough -0.5 to -2.5 (of 14-18 ns; runs on a loaded shared machine); the quietest batches
-  // (10th percentile) -0.3 to -0.8 ns of ~11. Coarse tier, whose band of a surface stays in L2:
-  // +0.7 to +1.5 ns, so it keeps single slots.
-  bool paired_nodes;
-  int node_doubles() const { return paired_nodes ? 8 : 4; }  // doubles per node slot (nodes() below)
 };
-inline constexpr KernelTableSpec kKernelTableFine{20, 30, 150, 1e-6, true, true};
-inline constexpr KernelTableSpec kKernelTableCoarse{10, 10, 50, 1e-4, false, false};
+inline constexpr KernelTableSpec kKernelTableFine{20, 30, 150, 1e-6};
+inline constexpr KernelTableSpec kKernelTableCoarse{10, 10, 50, 1e-4};
 inline constexpr double kKernelTableCertifiedError = kKernelTableFine.certified_error;
 
 class KernelTable {
@@ -91,15 +89,15 @@ class KernelTable {
   // The table asf_auto uses at this tolerance: the coarsest whose certified error is <= it;
   // nullptr below the fine table's.
   static const KernelTable* for_tolerance(double tolerance);
-  // Every node of a tier's grid from the series (multi-threaded), laid out as nodes().
-  static std::vector<double> compute_nodes(Tier tier);
+  // A tier's spline coefficients from the series (multi-threaded), laid out as coefficients().
+  static std::vector<double> compute_coefficients(Tier tier);
 
   // True when (g, c) lies inside the tables' domain: kKernelGMin <= g <= kKernelGMax, c >= 0 (up to
   // +Inf: beyond kKernelZFar the value is 0).
   bool contains(double g, double c) const {  // inline: asf_regime asks it for every scalar query
     return g >= kKernelGMin && g <= kKernelGMax && c >= 0.0;
   }
-  // Sigma(g, c) by bicubic Hermite interpolation of ln Sigma (0 beyond kKernelZFar); only for contains(g, c).
+  // Sigma(g, c) by the bicubic spline of ln Sigma (0 beyond kKernelZFar); only for contains(g, c).
   double sigma(double g, double c) const;
   // scale Sigma(g, c) as e^(ln Sigma + ln scale), scale > 0 (asf_auto: the prefactor of eq. 11):
   // where Sigma alone is subnormal (ln Sigma < -708) but scale Sigma is not, it keeps full
@@ -132,31 +130,31 @@ class KernelTable {
   double dx() const { return dx_; }
   double dz() const { return dz_; }
   double dw() const { return dw_; }
-  // Node data: a slot of S = spec().node_doubles() doubles per node, (F, F_x, F_v, F_xv) of the node,
-  // then (paired_nodes, S = 8) the same four of its right neighbour in the row (zeros after a row's
-  // last node). The near section first, node (i, j)'s slot at index S (i nz + j) (v = z); then the
-  // far section, node (i, k)'s at S (nx nz + i nw + k) (v = w).
-  // Two blocks rather than rows of nz + nw nodes: the near rows, where most surfaces' queries fall,
-  // keep their stride (rows of 1165 nodes: asf minus g 9.2 ns on the rough surface, against 7.9 ns
-  // in two blocks and 7.7 ns before the far section; `brdf eval --timing`, 6 rounds, same run).
-  const double* nodes() const { return nodes_; }
-  std::size_t value_count() const { return static_cast<std::size_t>(nx_) * (nz_ + nw_) * spec_.node_doubles(); }
+  // Spline coefficients: per section, (nx + 2) rows of (n + 2), n = nz near, nw far; coefficient
+  // (r, q) belongs to node (r - 1, q - 1) (one beyond each end: the clamped spline's), so the
+  // stencil of cell (i, j) is rows i .. i + 3, columns j .. j + 3. The near section first, its
+  // coefficient (r, q) at r (nz + 2) + q; then the far section's at (nx + 2)(nz + 2) + r (nw + 2) + q.
+  // Two blocks rather than rows of both: the near rows, where most surfaces' queries fall, keep
+  // their stride (rows of 1165 nodes: asf minus g 9.2 ns on the rough surface, against 7.9 ns in
+  // two blocks and 7.7 ns before the far section; `brdf eval --timing`, 6 rounds, same run, stop 20).
+  const double* coefficients() const { return coefficients_; }
+  std::size_t value_count() const { return static_cast<std::size_t>(nx_ + 2) * ((nz_ + 2) + (nw_ + 2)); }
   std::size_t bytes() const { return value_count() * sizeof(double); }
-  // True when the nodes are the library's embedded ones (no computation in this process).
+  // True when the coefficients are the library's embedded ones (no computation in this process).
   bool embedded() const { return computed_.empty(); }
   // Wall time this process spent on the table (s): ~0 when embedded.
   double build_seconds() const { return build_seconds_; }
 
  private:
   explicit KernelTable(Tier tier);
-  // ln Sigma(g, c), the bicubic Hermite interpolation that sigma and scaled_sigma exponentiate
+  // ln Sigma(g, c), the bicubic spline that sigma and scaled_sigma exponentiate
   // (-inf beyond kKernelZFar); only for contains(g, c).
   double log_sigma(double g, double c) const;
   Tier tier_;
   KernelTableSpec spec_;
   int nx_ = 0, nz_ = 0, nw_ = 0;
   double x_min_ = 0.0, dx_ = 0.0, dz_ = 0.0, dw_ = 0.0;
-  const double* nodes_ = nullptr;
+  const double* coefficients_ = nullptr;
   std::vector<double> computed_;  // empty when embedded
   double build_seconds_ = 0.0;
 };

@@ -105,8 +105,8 @@ namespace libbrdf {
 
 enum class LutLayout { rusinkiewicz, merl, slice, kernel };
 // The relative tolerance of the kernel layout's Sigma(g, c) at lookup (asf_auto): the kernel
-// table's coarse tier (certified 1e-4, 3.5 MB; kernel_table.h), a tenth of the layout's 1e-3
-// promise. With the fine tier (1e-6, 41 MB, over which a lookup's queries spread) 3-channel
+// table's coarse tier (certified 1e-4, 3.5 MB then, 0.9 MB now; kernel_table.h), a tenth of the layout's 1e-3
+// promise. With the fine tier (1e-6, then 41 MB of Hermite nodes, over which a lookup's queries spread) 3-channel
 // closed-form lookups were 1.16x slower (bench_lookup, one CPU, two alternated runs: 37.1-38.7 ->
 // 32.8-33.8 ns); the layout's max error over kernel_layout_audit.py's 22 materials 3.0e-5 -> 3.4e-5,
 // the bake's own on README's surfaces <= 1.2e-5 -> <= 1.5e-5.
