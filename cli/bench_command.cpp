@@ -74,7 +74,9 @@ const libbrdf::Direction kSunDirection{0.3, 0.0, 1.0}, kCameraDirection{-0.5, 0.
 struct Row {
   std::string kind, model, surface, variant, layout, shape;
   double nodes = 0, evals_per_s = 0, speed_ratio = 0, max_rel_error = 0, rms_rel_error = 0, floor = 0;
-  double bytes = 0;  // tables: bytes of the per-material data (float32 nodes + side tables)
+  // tables: bytes of the per-material data (float32 nodes + side tables); kernel-table rows: the
+  // universal table's tier (kernel_table.h), which every material shares
+  double bytes = 0;
   double speed_vs_landed = 0;  // batch rows: evals_per_s / that of the per-query path it replaces (same run)
   int samples = 0;
 };
@@ -247,12 +249,19 @@ class Bench {
     series_only.series.allow_kernel_table = false;
     add_model_row("fast_path", ModelKind::asf, s, series_only, "series SIMD tol 1e-6 (--asf-method series)");
     add_asf_batch_row(s, series_only, "batch: series in lanes tol 1e-6");
-    add_model_row("fast_path", ModelKind::asf, s, gold(s), "kernel table tol 1e-6 (default)");
-    add_asf_batch_row(s, gold(s), "batch: kernel table in lanes tol 1e-6 (default)");
     ModelParameters coarse = gold(s);  // KernelTable::for_tolerance: the coarse tier (kernel_table.h)
     coarse.tolerance = libbrdf::kKernelTableCoarse.certified_error;
-    add_model_row("fast_path", ModelKind::asf, s, coarse, "kernel table tol 1e-4 (coarse tier)");
-    add_asf_batch_row(s, coarse, "batch: kernel table in lanes tol 1e-4 (coarse tier)");
+    struct Tier {
+      ModelParameters parameters;
+      const char *name, *batch_name;
+    };
+    for (const Tier& tier : {Tier{gold(s), "kernel table tol 1e-6 (default)", "batch: kernel table in lanes tol 1e-6 (default)"},
+                             Tier{coarse, "kernel table tol 1e-4 (coarse tier)", "batch: kernel table in lanes tol 1e-4 (coarse tier)"}}) {
+      add_model_row("fast_path", ModelKind::asf, s, tier.parameters, tier.name);
+      add_asf_batch_row(s, tier.parameters, tier.batch_name);
+      rows_[rows_.size() - 2].bytes = rows_.back().bytes =
+          static_cast<double>(libbrdf::KernelTable::for_tolerance(tier.parameters.tolerance)->bytes());
+    }
     ModelParameters asf_landed = reference_parameters(s);
     asf_landed.series.method = libbrdf::SeriesMethod::strided;
     add_model_row("fast_path", ModelKind::asf, s, asf_landed, "series strided scalar (landed method; tol 0)");
