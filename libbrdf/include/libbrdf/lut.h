@@ -52,7 +52,7 @@
 //                c = pi^2 (l_c/lambda)^2 eta_r^2 from the per-channel sigma_s/lambda and
 //                l_c/lambda (Lut::kernel_sigma_over_lambda, kernel_lc_over_lambda; file header
 //                attributes libbrdf:kernel_sigma_over_lambda and libbrdf:kernel_lc_over_lambda).
-//                Sigma at kKernelLayoutSigmaTolerance (below): the kernel table's coarse tier,
+//                Sigma at kKernelLayoutSigmaTolerance (below): the kernel table's fine tier,
 //                outside its domain closed forms or the series. All the sharpness of the lobe
 //                is in Sigma, so a small P table holds polished surfaces as well as rough ones.
 //                Lut::kernel_angular (header attribute libbrdf:kernel_angular, absent = table)
@@ -105,12 +105,15 @@ namespace libbrdf {
 
 enum class LutLayout { rusinkiewicz, merl, slice, kernel };
 // The relative tolerance of the kernel layout's Sigma(g, c) at lookup (asf_auto): the kernel
-// table's coarse tier (certified 1e-4, 3.5 MB then, 0.9 MB now; kernel_table.h), a tenth of the layout's 1e-3
-// promise. With the fine tier (1e-6, then 41 MB of Hermite nodes, over which a lookup's queries spread) 3-channel
-// closed-form lookups were 1.16x slower (bench_lookup, one CPU, two alternated runs: 37.1-38.7 ->
-// 32.8-33.8 ns); the layout's max error over kernel_layout_audit.py's 22 materials 3.0e-5 -> 3.4e-5,
-// the bake's own on README's surfaces <= 1.2e-5 -> <= 1.5e-5.
-inline constexpr double kKernelLayoutSigmaTolerance = 1e-4;
+// table's fine tier (certified 1e-6, 5.2 MB; kernel_table.h). Stops 24-28 read the coarse tier
+// (1e-4), because the fine one was then 41 MB of Hermite nodes over which a lookup's queries spread
+// (3-channel closed-form lookups 1.16x slower). With the spline tables (stop 29; bench_lookup, one
+// CPU, three alternated runs, gold on the three surfaces) the fine tier costs 4-5%: closed form
+// 4.26-4.41e7 -> 4.07-4.29e7 lookups/s, P~ table 1.70-1.73e7 -> 1.58-1.67e7; and the closed form's
+// max error there 1.9e-6 / 8.9e-6 / 1.2e-5 -> 1.9e-6 / 1.9e-6 / 4.2e-6. kernel_layout_audit.py's 22
+// materials: max 3.4e-5 -> 3.0e-5 (Si, rough, mbk-fg, tis: its K and P~, not Sigma), bk 8.7e-6 ->
+// 1.4e-7, bk-modified 4.7e-6 -> 5.6e-8, mbk-fg 8.6e-6 -> 9.8e-7 (values above 1e-6 of the peak).
+inline constexpr double kKernelLayoutSigmaTolerance = 1e-6;
 // Kernel layout: which part of the angular factor P is tabulated (see "kernel" above).
 enum class KernelAngular { table, closed_form };
 std::string_view layout_name(LutLayout layout);
