@@ -296,11 +296,11 @@ std::size_t SeriesQueryLanes(const double* g, const double* c, std::size_t count
 // chunks of kTableChunk queries: the first finds each query's cell and offsets (s, t), the second
 // loads the 4 x 4 stencil and interpolates. Split, a chunk's loads do not wait behind each vector's
 // log; each stencil row is 4 contiguous doubles, loaded per lane and transposed (LoadColumns) so
-// that col[b] holds column b of every lane (one pass of gathers was 2.3-2.6x slower, stop 13). The
+// that col[b] holds column b of every lane (when it landed, one pass of gathers was 2.3-2.6x slower). The
 // table's domain test (KernelTable::contains) and the prefactor are lane operations here too, so
 // asf_auto_batch hands every query of a chunk to the table first and routes only those handed back
-// (asf minus g 11.7 -> 11.1 ns polished, 12.0 -> 10.0 intermediate, stop 16).
-// No prefetches. Hermite's paired nodes (41 MB, stops 14-28) spread a polished surface's queries
+// (when it landed: asf minus g 11.7 -> 11.1 ns polished, 12.0 -> 10.0 intermediate).
+// No prefetches. Hermite's paired nodes (41 MB, until stop 28) spread a polished surface's queries
 // past L2, and prefetching each cell row while locating paid (17.0 -> 12.2 ns). The spline's band
 // of that surface is ~0.9 MB: prefetching the 4 stencil rows (8 lines a query) cost 3.4-4.0 ns a
 // query, and locating the next chunk before interpolating this one (for the prefetches' lead) made
