@@ -340,9 +340,8 @@ std::size_t KernelTableLanes(const KernelTableView& table, const double* g, cons
   const V z_near = hn::Set(d, kKernelZNear), z_far = hn::Set(d, kKernelZFar);
   std::size_t outside_count = 0;
   // A stencil row to the next, in each section; the far section's first coefficient.
-  const double near_row = table.nz + 2.0, far_row = table.nw + 2.0;
-  const V near_stride = hn::Set(d, near_row), far_stride = hn::Set(d, far_row);
-  const V far_base = hn::Set(d, (table.nx + 2.0) * near_row);
+  const V near_stride = hn::Set(d, double(table.near_row)), far_stride = hn::Set(d, double(table.far_row));
+  const V far_base = hn::Set(d, double(table.far_offset));
   alignas(64) double gb[kMaxLanes], cb[kMaxLanes], lb[kMaxLanes], out[kMaxLanes];
   struct Cells {
     // Cell offsets (s, t); beyond[k] = 1 beyond kKernelZFar (where the value is 0), else 0.

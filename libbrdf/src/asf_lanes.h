@@ -31,6 +31,7 @@ struct KernelTableView {
   const double* coefficients;
   int nx, nz, nw;
   double x_min, dx, dz, dw;
+  std::size_t near_row, far_row, far_offset;  // KernelTable::row_length(false), (true), far_section_offset()
 };
 
 // The kernel table's bicubic spline lookup (KernelTable::sigma) in lanes: out[k] = scale exp(F(ln g, v))

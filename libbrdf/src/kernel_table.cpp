@@ -46,20 +46,19 @@ void node_values(double x, double z, double* out) {
 // system in c_1 .. c_n, strictly diagonally dominant (4 against 1 + 1, or 2 at the ends), solved by
 // elimination without pivoting. n >= 2.
 void clamped_cubic_spline(const double* f, int n, double slope0, double slope1, double* c) {
+  // Off the diagonal 1/6, but 2/6 above it in the first row and below it in the last.
+  auto above = [](int j) { return j == 0 ? 2.0 / 6.0 : 1.0 / 6.0; };
+  auto below = [n](int j) { return j == n - 1 ? 2.0 / 6.0 : 1.0 / 6.0; };
   std::vector<double> diagonal(n, 4.0 / 6.0), rhs(f, f + n);
-  const double lower = 1.0 / 6.0;  // below and above the diagonal but at the ends (2/6 there)
   rhs[0] += slope0 / 3.0;
   rhs[n - 1] -= slope1 / 3.0;
-  std::vector<double> upper(n, lower);
-  upper[0] = 2.0 / 6.0;
   for (int j = 1; j < n; ++j) {
-    const double below = j == n - 1 ? 2.0 / 6.0 : lower;
-    const double factor = below / diagonal[j - 1];
-    diagonal[j] -= factor * upper[j - 1];
+    const double factor = below(j) / diagonal[j - 1];
+    diagonal[j] -= factor * above(j - 1);
     rhs[j] -= factor * rhs[j - 1];
   }
   c[n] = rhs[n - 1] / diagonal[n - 1];
-  for (int j = n - 2; j >= 0; --j) c[j + 1] = (rhs[j] - upper[j] * c[j + 2]) / diagonal[j];
+  for (int j = n - 2; j >= 0; --j) c[j + 1] = (rhs[j] - above(j) * c[j + 2]) / diagonal[j];
   c[0] = c[2] - 2.0 * slope0;
   c[n + 1] = c[n - 1] + 2.0 * slope1;
 }
@@ -199,8 +198,8 @@ double KernelTable::log_sigma(double g, double c) const {
   // The cell's column j in its section and the offset t in it: near in z, far in w = ln(z / kKernelZNear).
   const double u_v = far ? std::log(z / kKernelZNear) / dw_ : z / dz_;
   const int row_nodes = far ? nw_ : nz_;
-  const std::size_t row = static_cast<std::size_t>(row_nodes) + 2;
-  const double* section = far ? coefficients_ + static_cast<std::size_t>(nx_ + 2) * (nz_ + 2) : coefficients_;
+  const std::size_t row = row_length(far);
+  const double* section = far ? coefficients_ + far_section_offset() : coefficients_;
   const int i = std::min(static_cast<int>(u_x), nx_ - 2);
   const int j = std::min(static_cast<int>(u_v), row_nodes - 2);
   double wx[4], wv[4];
@@ -216,7 +215,7 @@ double KernelTable::log_sigma(double g, double c) const {
 
 std::size_t KernelTable::scaled_sigma_inside(const double* g, const double* c, std::size_t count, double scale, double* out,
                                              std::uint32_t* outside, const double* ln_g) const {
-  const detail::KernelTableView view{coefficients_, nx_, nz_, nw_, x_min_, dx_, dz_, dw_};
+  const detail::KernelTableView view{coefficients_, nx_, nz_, nw_, x_min_, dx_, dz_, dw_, row_length(false), row_length(true), far_section_offset()};
   return detail::kernel_table_lanes(view, g, c, ln_g, count, scale, out, outside);
 }
 

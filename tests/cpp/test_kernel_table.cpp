@@ -79,6 +79,14 @@ TEST(FastSeries, HugeAndInfiniteG) {
   EXPECT_TRUE(std::isnan(mbk_series_sum(NAN, 1.0)));  // never hidden as a value (callers validate)
 }
 
+// The reference the table is checked against: the series, every term, truncated at 1e-16.
+SeriesOptions reference_series() {
+  SeriesOptions reference;
+  reference.method = SeriesMethod::every_term;
+  reference.relative_tolerance = 1e-16;
+  return reference;
+}
+
 // Every test below runs on each tier of the table (kernel_table.h: fine 1e-6, coarse 1e-4).
 class KernelTableTier : public ::testing::TestWithParam<KernelTable::Tier> {
  protected:
@@ -96,9 +104,7 @@ INSTANTIATE_TEST_SUITE_P(Tiers, KernelTableTier, ::testing::Values(KernelTable::
 TEST_P(KernelTableTier, CertifiedErrorHoldsOverTheWholeDomain) {
   std::cout << "[ measured ] kernel table " << table.nx() << " x " << table.nz() << " nodes, " << static_cast<double>(table.bytes()) / 1e6
             << " MB, built in " << table.build_seconds() << " s\n";
-  SeriesOptions reference;
-  reference.method = SeriesMethod::every_term;
-  reference.relative_tolerance = 1e-16;
+  const SeriesOptions reference = reference_series();
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> unit(0, 1);
   const double x_max = std::log(kKernelGMax);
@@ -134,9 +140,7 @@ TEST_P(KernelTableTier, CertifiedErrorHoldsOverTheWholeDomain) {
 // and at a random point, against the same reference; the same claim with the same margin. Its values
 // reach ~e^-745 (polished surfaces with l_c / lambda ~ 10 or more, at g << 1).
 TEST_P(KernelTableTier, CertifiedErrorHoldsOverTheFarSection) {
-  SeriesOptions reference;
-  reference.method = SeriesMethod::every_term;
-  reference.relative_tolerance = 1e-16;
+  const SeriesOptions reference = reference_series();
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> unit(0, 1);
   double worst = 0.0, worst_g = 0.0, worst_z = 0.0;
@@ -193,9 +197,7 @@ TEST_P(KernelTableTier, SigmaVanishesBeyondTheFarSection) {
 // certified error, which is reached mid-cell (kernel_table.h). A wrong stencil offset, weight or
 // row length would show here at the size of a cell's variation (up to ~|F_v dv| ~ 1 relative).
 TEST_P(KernelTableTier, SplinePassesThroughItsNodes) {
-  SeriesOptions reference;
-  reference.method = SeriesMethod::every_term;
-  reference.relative_tolerance = 1e-16;
+  const SeriesOptions reference = reference_series();
   double worst = 0.0, worst_g = 0.0, worst_z = 0.0;
   long long compared = 0;
   for (int i = 0; i < table.nx(); i += 7) {
