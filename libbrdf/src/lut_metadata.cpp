@@ -15,17 +15,10 @@
 #include "libbrdf/version.h"
 #include "libbrdf/kernel_table.h"
 #include "lut_internal.h"
+#include "number_text.h"
 
 namespace libbrdf::detail {
 namespace {
-
-// Shortest of %.15g / %.17g that reads back exactly.
-std::string number_text(double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.15g", value);
-  if (std::strtod(buffer, nullptr) != value) std::snprintf(buffer, sizeof buffer, "%.17g", value);
-  return buffer;
-}
 
 std::string list_text(const std::vector<double>& values) {
   std::string out;
