@@ -128,6 +128,23 @@ TEST(Messages, ExcerptEscapesControlBytesAndCutsLongText) {
   EXPECT_NE(cut.find("52428800 bytes"), std::string::npos) << cut;
 }
 
+// A rejected value is quoted in the fewest digits that read back as the same double: 15 where
+// they do (1e-07, not 9.9999999999999995e-08), 17 where 15 would name another number.
+TEST(Messages, NumbersAreQuotedInTheirShortestExactDigits) {
+  auto message = [](double value) {
+    try {
+      libbrdf::require_positive("sigma_s", value, "um");
+    } catch (const libbrdf::InvalidArgument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message(-1e-7), "sigma_s: must be a finite number > 0 um (got -1e-07)");
+  const double not_0_3 = -(0.1 + 0.2);  // -0.30000000000000004: "%.15g" would print -0.3
+  EXPECT_EQ(message(not_0_3), "sigma_s: must be a finite number > 0 um (got -0.30000000000000004)");
+  EXPECT_EQ(std::strtod("-0.30000000000000004", nullptr), not_0_3);
+}
+
 TEST(LutFiles, WritersAndReadersRefuseNegativeValues) {
   libbrdf::Lut lut;
   lut.layout = libbrdf::LutLayout::rusinkiewicz;
