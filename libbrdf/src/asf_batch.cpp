@@ -328,7 +328,8 @@ std::size_t KernelTableLanes(const KernelTableView& table, const double* g, cons
   constexpr std::size_t n = hn::MaxLanes(d);
   static_assert(kTableChunk % n == 0, "whole vectors per chunk");
   const V one = hn::Set(d, 1.0);
-  const V inv_dx = hn::Set(d, 1.0 / table.dx), inv_dz = hn::Set(d, 1.0 / table.dz);
+  const KernelGrid& grid = table.grid;
+  const V inv_dx = hn::Set(d, 1.0 / grid.dx), inv_dz = hn::Set(d, 1.0 / grid.dz);
   // scale e^F as e^(F + ln scale) (KernelTable::scaled_sigma): where e^F alone is subnormal (F <
   // -708) but scale e^F is not, no subnormal number is computed, and the value keeps its precision.
   // Arithmetic on subnormals takes microcode assists: asf minus g at sigma_s = 0.005 um, l_c =
@@ -340,8 +341,8 @@ std::size_t KernelTableLanes(const KernelTableView& table, const double* g, cons
   const V z_near = hn::Set(d, kKernelZNear), z_far = hn::Set(d, kKernelZFar);
   std::size_t outside_count = 0;
   // A stencil row to the next, in each section; the far section's first coefficient.
-  const V near_stride = hn::Set(d, double(table.near_row)), far_stride = hn::Set(d, double(table.far_row));
-  const V far_base = hn::Set(d, double(table.far_offset));
+  const V near_stride = hn::Set(d, double(grid.row_length(false))), far_stride = hn::Set(d, double(grid.row_length(true)));
+  const V far_base = hn::Set(d, double(grid.far_section_offset()));
   alignas(64) double gb[kMaxLanes], cb[kMaxLanes], lb[kMaxLanes], out[kMaxLanes];
   struct Cells {
     // Cell offsets (s, t); beyond[k] = 1 beyond kKernelZFar (where the value is 0), else 0.
@@ -379,21 +380,21 @@ std::size_t KernelTableLanes(const KernelTableView& table, const double* g, cons
       // wavelengths share ln(cos ti + cos ts)). The row is clamped to the table at both ends: at
       // g = kKernelGMin a logarithm a few ulp low could otherwise select row -1 (the scalar
       // lookup's truncation toward 0 does not).
-      const V ux = hn::Mul(hn::Sub(ln_g ? vl : hn::Log(d, vg), hn::Set(d, table.x_min)), inv_dx);
+      const V ux = hn::Mul(hn::Sub(ln_g ? vl : hn::Log(d, vg), hn::Set(d, grid.x_min)), inv_dx);
       const V z = hn::Sqrt(hn::Div(vc, hn::Add(vg, one)));
-      const V fi = hn::Max(hn::Zero(d), hn::Min(hn::Floor(ux), hn::Set(d, table.nx - 2.0)));
+      const V fi = hn::Max(hn::Zero(d), hn::Min(hn::Floor(ux), hn::Set(d, grid.nx - 2.0)));
       // The cell (as KernelTable::sigma): near, column z / dz below kKernelZNear; far, column
       // ln(z / kKernelZNear) / dw of the far section (its log only where a lane needs it); beyond
       // kKernelZFar, a near cell whose value is then replaced by 0.
-      V uv = hn::Mul(z, inv_dz), fj = hn::Min(hn::Floor(uv), hn::Set(d, table.nz - 2.0));
+      V uv = hn::Mul(z, inv_dz), fj = hn::Min(hn::Floor(uv), hn::Set(d, grid.nz - 2.0));
       auto far_cell = hn::FirstN(d, 0), beyond = hn::FirstN(d, 0);  // none
       const auto far = hn::Gt(z, z_near);
       if (!hn::AllFalse(d, far)) {
         beyond = hn::Not(hn::Le(z, z_far));  // +Inf too
-        const V uw = hn::Mul(hn::Log(d, hn::Mul(hn::Min(z, z_far), hn::Set(d, 1.0 / kKernelZNear))), hn::Set(d, 1.0 / table.dw));
+        const V uw = hn::Mul(hn::Log(d, hn::Mul(hn::Min(z, z_far), hn::Set(d, 1.0 / kKernelZNear))), hn::Set(d, 1.0 / grid.dw));
         far_cell = hn::AndNot(beyond, far);
         uv = hn::IfThenElse(far_cell, uw, hn::IfThenZeroElse(beyond, uv));
-        fj = hn::IfThenElse(far_cell, hn::Min(hn::Floor(uw), hn::Set(d, table.nw - 2.0)), hn::IfThenZeroElse(beyond, fj));
+        fj = hn::IfThenElse(far_cell, hn::Min(hn::Floor(uw), hn::Set(d, grid.nw - 2.0)), hn::IfThenZeroElse(beyond, fj));
       }
       // The stencil's first coefficient in its section (row i, column j), and its row length (the
       // sections' rows differ).

@@ -3,6 +3,8 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "libbrdf/kernel_table.h"
+
 namespace libbrdf::detail {
 
 // The per-lane series handles truncation tolerances from this up (its recurrences lose ~(d + 10)
@@ -24,14 +26,10 @@ inline constexpr double kLaneMaxStride = 16.0;
 std::size_t series_query_lanes(const double* g, const double* c, std::size_t count, double relative_tolerance,
                                double* sigma, std::uint32_t* rejected);
 
-// A kernel table's grid and spline coefficients (KernelTable::coefficients()): near coefficient
-// (r, q) at r (nz + 2) + q (v = z, spacing dz), far at (nx + 2)(nz + 2) + r (nw + 2) + q (v = w,
-// spacing dw); cell (i, j)'s stencil is rows i .. i + 3, columns j .. j + 3.
+// A kernel table's spline coefficients (KernelTable::coefficients()), laid out as its grid says.
 struct KernelTableView {
   const double* coefficients;
-  int nx, nz, nw;
-  double x_min, dx, dz, dw;
-  std::size_t near_row, far_row, far_offset;  // KernelTable::row_length(false), (true), far_section_offset()
+  KernelGrid grid;
 };
 
 // The kernel table's bicubic spline lookup (KernelTable::sigma) in lanes: out[k] = scale exp(F(ln g, v))

@@ -79,8 +79,7 @@ const KernelTableSpec& spec_of(KernelTable::Tier tier) {
 
 }  // namespace
 
-namespace detail {
-KernelGrid kernel_grid(const KernelTableSpec& spec) {
+KernelGrid KernelGrid::of(const KernelTableSpec& spec) {
   KernelGrid grid;
   grid.x_min = std::log(kKernelGMin);
   grid.dx = 1.0 / spec.nodes_per_unit_x;
@@ -92,10 +91,9 @@ KernelGrid kernel_grid(const KernelTableSpec& spec) {
   grid.nw = static_cast<int>(std::ceil(std::log(kKernelZFar / kKernelZNear) / grid.dw)) + 2;
   return grid;
 }
-}  // namespace detail
 
 std::vector<double> KernelTable::compute_coefficients(Tier tier) {
-  const detail::KernelGrid grid = detail::kernel_grid(spec_of(tier));
+  const KernelGrid grid = KernelGrid::of(spec_of(tier));
   std::vector<double> coefficients(grid.values(), 0.0);
   // One section (near: v = z, far: v = w): node values (F, F_x, F_v, F_xv) in v, then the spline
   // along v in every row (F, with F_v at the row's ends; F_x too in the first and last rows, with
@@ -104,7 +102,7 @@ std::vector<double> KernelTable::compute_coefficients(Tier tier) {
   auto section = [&](bool far, double* out) {
     const int n = far ? grid.nw : grid.nz;
     const double dv = far ? grid.dw : grid.dz;
-    const std::size_t row = static_cast<std::size_t>(n) + 2;
+    const std::size_t row = grid.row_length(far);
     std::vector<double> along_v(grid.nx * row), x_slope_first(row), x_slope_last(row);
     tbb::parallel_for(tbb::blocked_range<int>(0, grid.nx), [&](const tbb::blocked_range<int>& rows) {
       std::vector<double> f(n), node(4 * static_cast<std::size_t>(n));
@@ -134,7 +132,7 @@ std::vector<double> KernelTable::compute_coefficients(Tier tier) {
     });
   };
   section(false, coefficients.data());
-  section(true, coefficients.data() + grid.rows() * grid.near_row());
+  section(true, coefficients.data() + grid.far_section_offset());
   return coefficients;
 }
 
@@ -151,8 +149,7 @@ const KernelTable* KernelTable::for_tolerance(double tolerance) {
 
 KernelTable::KernelTable(Tier tier) : tier_(tier), spec_(spec_of(tier)) {
   const auto start = std::chrono::steady_clock::now();
-  const detail::KernelGrid grid = detail::kernel_grid(spec_);
-  nx_ = grid.nx, nz_ = grid.nz, nw_ = grid.nw, x_min_ = grid.x_min, dx_ = grid.dx, dz_ = grid.dz, dw_ = grid.dw;
+  grid_ = KernelGrid::of(spec_);
   const detail::EmbeddedKernelTable file = detail::embedded_kernel_table();
   if (file.data == nullptr) {  // the generator itself
     computed_ = compute_coefficients(tier);
@@ -164,7 +161,7 @@ KernelTable::KernelTable(Tier tier) : tier_(tier), spec_(spec_of(tier)) {
     bool matches = true;
     for (const Tier section : detail::kKernelTableTiers) {
       detail::KernelTableFileHeader header;
-      const detail::KernelGrid expected = detail::kernel_grid(spec_of(section));
+      const KernelGrid expected = KernelGrid::of(spec_of(section));
       const std::size_t values = expected.values();
       matches = matches && file.size >= offset + sizeof header;
       if (!matches) break;
@@ -194,13 +191,13 @@ double KernelTable::log_sigma(double g, double c) const {
   const double z = std::sqrt(c / (g + 1.0));
   if (z > kKernelZFar) return -std::numeric_limits<double>::infinity();  // Sigma < e^-745 there (kernel_table.h)
   const bool far = z > kKernelZNear;
-  const double u_x = (std::log(g) - x_min_) / dx_;
+  const double u_x = (std::log(g) - grid_.x_min) / grid_.dx;
   // The cell's column j in its section and the offset t in it: near in z, far in w = ln(z / kKernelZNear).
-  const double u_v = far ? std::log(z / kKernelZNear) / dw_ : z / dz_;
-  const int row_nodes = far ? nw_ : nz_;
-  const std::size_t row = row_length(far);
-  const double* section = far ? coefficients_ + far_section_offset() : coefficients_;
-  const int i = std::min(static_cast<int>(u_x), nx_ - 2);
+  const double u_v = far ? std::log(z / kKernelZNear) / grid_.dw : z / grid_.dz;
+  const int row_nodes = far ? grid_.nw : grid_.nz;
+  const std::size_t row = grid_.row_length(far);
+  const double* section = far ? coefficients_ + grid_.far_section_offset() : coefficients_;
+  const int i = std::min(static_cast<int>(u_x), grid_.nx - 2);
   const int j = std::min(static_cast<int>(u_v), row_nodes - 2);
   double wx[4], wv[4];
   cubic_bspline_weights(u_x - i, wx);
@@ -215,8 +212,7 @@ double KernelTable::log_sigma(double g, double c) const {
 
 std::size_t KernelTable::scaled_sigma_inside(const double* g, const double* c, std::size_t count, double scale, double* out,
                                              std::uint32_t* outside, const double* ln_g) const {
-  const detail::KernelTableView view{coefficients_, nx_, nz_, nw_, x_min_, dx_, dz_, dw_, row_length(false), row_length(true), far_section_offset()};
-  return detail::kernel_table_lanes(view, g, c, ln_g, count, scale, out, outside);
+  return detail::kernel_table_lanes(detail::KernelTableView{coefficients_, grid_}, g, c, ln_g, count, scale, out, outside);
 }
 
 void KernelTable::sigma_many(const double* g, const double* c, std::size_t count, double* sigma) const {

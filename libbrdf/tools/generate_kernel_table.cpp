@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
     std::string summary;
     for (const libbrdf::KernelTable::Tier tier : libbrdf::detail::kKernelTableTiers) {  // one section each, in order
       const libbrdf::KernelTable& table = libbrdf::KernelTable::instance(tier);
-      const libbrdf::detail::KernelGrid grid = libbrdf::detail::kernel_grid(table.spec());
+      const libbrdf::KernelGrid grid = libbrdf::KernelGrid::of(table.spec());
       libbrdf::detail::KernelTableFileHeader header{};
       std::memcpy(header.magic, libbrdf::detail::kKernelTableMagic, sizeof header.magic);
       header.nx = grid.nx, header.nz = grid.nz, header.nw = grid.nw;

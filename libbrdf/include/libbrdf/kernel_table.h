@@ -13,7 +13,7 @@
 // a test asserts that the embedded tables are that result bit for bit.
 //
 // Grid (described in kernel-layout LUT files' metadata): a near section, uniform in z, and a far
-// section, uniform in w = ln(z / kKernelZNear), each a block of rows (coefficients() below):
+// section, uniform in w = ln(z / kKernelZNear), each a block of rows (KernelGrid below):
 //   x = ln g                 nodes x_i = ln kKernelGMin + i dx,              i = 0 .. nx - 1
 //   z = sqrt(c / (g + 1))    near: z_j = j dz,                                j = 0 .. nz - 1
 //                            far:  z_k = kKernelZNear e^(k dw),               k = 0 .. nw - 1
@@ -80,6 +80,26 @@ inline constexpr KernelTableSpec kKernelTableFine{20, 30, 150, 1e-6};
 inline constexpr KernelTableSpec kKernelTableCoarse{10, 10, 50, 1e-4};
 inline constexpr double kKernelTableCertifiedError = kKernelTableFine.certified_error;
 
+// A tier's grid (the constants above with its KernelTableSpec's spacings) and the layout of its
+// spline coefficients (KernelTable::coefficients()): per section, rows() rows of row_length(far)
+// coefficients, one per node (nx rows; nz near, nw far per row) and kSplineBorder beyond each end
+// of both axes (the clamped spline's); coefficient (r, q) belongs to node (r - 1, q - 1), so the stencil of cell (i, j) is rows i .. i + 3, columns
+// j .. j + 3. The near section first, its coefficient (r, q) at r row_length(false) + q; then the
+// far section's at far_section_offset() + r row_length(true) + q. Two blocks rather than rows of
+// both: the near rows, where most surfaces' queries fall, keep their stride (rows of 1165 nodes:
+// asf minus g 9.2 ns on the rough surface, against 7.9 ns in two blocks and 7.7 ns before the far
+// section; `brdf eval --timing`, 6 rounds, same run, with Hermite nodes).
+struct KernelGrid {
+  int nx = 0, nz = 0, nw = 0;  // nodes along x; near and far section nodes per row
+  double x_min = 0.0, dx = 0.0, dz = 0.0, dw = 0.0;
+  static constexpr int kSplineBorder = 1;  // coefficients beyond each end of an axis (clamped cubic)
+  static KernelGrid of(const KernelTableSpec& spec);
+  std::size_t rows() const { return static_cast<std::size_t>(nx) + 2 * kSplineBorder; }
+  std::size_t row_length(bool far) const { return static_cast<std::size_t>(far ? nw : nz) + 2 * kSplineBorder; }
+  std::size_t far_section_offset() const { return rows() * row_length(false); }
+  std::size_t values() const { return far_section_offset() + rows() * row_length(true); }
+};
+
 class KernelTable {
  public:
   enum class Tier { fine, coarse };
@@ -123,25 +143,17 @@ class KernelTable {
   Tier tier() const { return tier_; }
   const KernelTableSpec& spec() const { return spec_; }
   double certified_error() const { return spec_.certified_error; }
-  int nx() const { return nx_; }
-  int nz() const { return nz_; }  // near section's nodes per row
-  int nw() const { return nw_; }  // far section's nodes per row
-  double x_min() const { return x_min_; }
-  double dx() const { return dx_; }
-  double dz() const { return dz_; }
-  double dw() const { return dw_; }
-  // Spline coefficients: per section, (nx + 2) rows of (n + 2), n = nz near, nw far; coefficient
-  // (r, q) belongs to node (r - 1, q - 1) (one beyond each end: the clamped spline's), so the
-  // stencil of cell (i, j) is rows i .. i + 3, columns j .. j + 3. The near section first, its
-  // coefficient (r, q) at r (nz + 2) + q; then the far section's at (nx + 2)(nz + 2) + r (nw + 2) + q.
-  // Two blocks rather than rows of both: the near rows, where most surfaces' queries fall, keep
-  // their stride (rows of 1165 nodes: asf minus g 9.2 ns on the rough surface, against 7.9 ns in
-  // two blocks and 7.7 ns before the far section; `brdf eval --timing`, 6 rounds, same run, with Hermite nodes).
+  const KernelGrid& grid() const { return grid_; }
+  int nx() const { return grid_.nx; }
+  int nz() const { return grid_.nz; }  // near section's nodes per row
+  int nw() const { return grid_.nw; }  // far section's nodes per row
+  double x_min() const { return grid_.x_min; }
+  double dx() const { return grid_.dx; }
+  double dz() const { return grid_.dz; }
+  double dw() const { return grid_.dw; }
+  // Spline coefficients, laid out as KernelGrid says.
   const double* coefficients() const { return coefficients_; }
-  std::size_t value_count() const { return far_section_offset() + (nx_ + 2) * row_length(true); }
-  // Coefficients per row of a section (its nodes and one beyond each end), and the far section's first.
-  std::size_t row_length(bool far) const { return static_cast<std::size_t>(far ? nw_ : nz_) + 2; }
-  std::size_t far_section_offset() const { return (nx_ + 2) * row_length(false); }
+  std::size_t value_count() const { return grid_.values(); }
   std::size_t bytes() const { return value_count() * sizeof(double); }
   // True when the coefficients are the library's embedded ones (no computation in this process).
   bool embedded() const { return computed_.empty(); }
@@ -155,8 +167,7 @@ class KernelTable {
   double log_sigma(double g, double c) const;
   Tier tier_;
   KernelTableSpec spec_;
-  int nx_ = 0, nz_ = 0, nw_ = 0;
-  double x_min_ = 0.0, dx_ = 0.0, dz_ = 0.0, dw_ = 0.0;
+  KernelGrid grid_;
   const double* coefficients_ = nullptr;
   std::vector<double> computed_;  // empty when embedded
   double build_seconds_ = 0.0;
