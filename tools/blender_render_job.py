@@ -15,6 +15,7 @@ JOB.json (written by tools/render_blender_comparison.py and tests/blender/test_b
       "passes": ["normal", "emit", ...],
       "keep_objects": false,                   # true: keep the previous render's objects and materials
       "objects": [{"shape": "sphere"|"torus"|"ellipsoid"|"monkey"|"cube"|"plane",
+                   "segments": 96, "rings": 48,    # the spheres' tessellation
                    "diffuse": [r, g, b],           # instead of "material": a Lambertian surface
                    "location": [...], "scale": [...], "rotation_deg": [...], "visible_glossy": true,
                    "material": {operator arguments of bpy.ops.libbrdf.add_material}}]}]}
@@ -29,9 +30,9 @@ import json
 import math
 import sys
 
-import addon_utils
-import bpy
-import mathutils
+import bpy  # first: as a Python module (bpy from PyPI) it puts addon_utils on sys.path
+import addon_utils  # noqa: E402
+import mathutils  # noqa: E402
 
 ADDON_MODULE = "libbrdf_materials"
 
@@ -77,8 +78,8 @@ def ensure_camera_and_sun(scene):
 
 def add_object(scene, spec):
     shape = spec["shape"]
-    if shape == "sphere":
-        bpy.ops.mesh.primitive_uv_sphere_add(segments=96, ring_count=48, radius=1.0)
+    if shape == "sphere":  # Blender's own default UV sphere is 32 x 16: "segments", "rings" set it
+        bpy.ops.mesh.primitive_uv_sphere_add(segments=spec.get("segments", 96), ring_count=spec.get("rings", 48), radius=1.0)
     elif shape == "ellipsoid":
         bpy.ops.mesh.primitive_uv_sphere_add(segments=96, ring_count=48, radius=1.0)
         bpy.context.active_object.scale = (1.0, 0.6, 0.8)
@@ -160,6 +161,8 @@ def configure_render(scene, r):
     layer.use_pass_emit = "emit" in passes
     layer.use_pass_glossy_direct = layer.use_pass_glossy_indirect = "glossy" in passes
     settings = scene.render.image_settings
+    if hasattr(settings, "media_type"):  # Blender 5.0+: the multilayer format needs its media type first
+        settings.media_type = "MULTI_LAYER_IMAGE"
     settings.file_format = "OPEN_EXR_MULTILAYER"
     settings.color_depth = "32"
     settings.exr_codec = "ZIP"

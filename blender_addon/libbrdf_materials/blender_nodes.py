@@ -91,6 +91,7 @@ def connect_script_node(tree, graph):
             import _cycles
             from cycles import osl
             if getattr(_cycles, "with_osl", False):
+                _put_oslquery_on_path()
                 osl.update_script_node(script, lambda kind, message: None)
         except Exception:  # noqa: BLE001 - any failure here means: not compiled
             pass
@@ -103,6 +104,18 @@ def connect_script_node(tree, graph):
         target = group_out if to_node == nodegraph.GROUP_OUTPUT else tree.nodes[to_node]
         tree.links.new(_socket(source.outputs, from_socket), _socket(target.inputs, to_socket))
     return True
+
+
+def _put_oslquery_on_path():
+    """Cycles' Script Node Update imports `oslquery`, which Blender keeps in its bundled Python's
+    site-packages. Blender as a Python module (bpy 4.5 / 5.0 from PyPI) runs in the caller's
+    Python, where that folder is not on sys.path: add it (a no-op in the Blender program)."""
+    import glob
+    import sys
+    pattern = os.path.join(bpy.utils.resource_path("LOCAL"), "python", "lib", "python3*", "site-packages")
+    for folder in glob.glob(pattern):
+        if folder not in sys.path and os.path.isdir(os.path.join(folder, "oslquery")):
+            sys.path.append(folder)
 
 
 def _group_node(tree, bl_idname):

@@ -495,8 +495,12 @@ def osl_graph(description, osl_path):
     g.notes.update(mode="OSL", shader=description["osl"]["shader"])
     b = _Builder(g)
     script = b.add("ShaderNodeScript", {"mode": "EXTERNAL", "filepath": osl_path}, label="libbrdf OSL")
+    # The view direction from Blender's own definition (Geometry > Incoming, towards the viewer):
+    # the I that Cycles 4.5 and 5.0 give OSL points the other way from OSL's spec.
+    geometry = b.add("ShaderNodeNewGeometry")
     # Links to sockets of the compiled script (same names as the shader's parameters).
     g.notes["script_links"] = [
+        ((geometry.id, "Incoming"), (script.id, "Incoming")),
         ((GROUP_INPUT, "Light Direction"), (script.id, "LightDirection")),
         ((GROUP_INPUT, "Sun Strength"), (script.id, "SunStrength")),
         ((GROUP_INPUT, "Sun Color"), (script.id, "SunColor")),

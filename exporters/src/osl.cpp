@@ -36,6 +36,7 @@ std::string quoted(const std::string& text) {
 }
 // The shader's light inputs, outputs and body after its image parameters (both forms).
 constexpr const char* kShaderTail = R"OSL(    vector LightDirection = vector(0.0, 0.0, 1.0),
+    vector Incoming = vector(0.0, 0.0, 0.0),
     float SunStrength = 1.0,
     color SunColor = color(1.0, 1.0, 1.0),
     output closure color BSDF = 0,
@@ -43,7 +44,9 @@ constexpr const char* kShaderTail = R"OSL(    vector LightDirection = vector(0.0
     output color SpecularWeight = color(0.0, 0.0, 0.0))
 {
     vector Nn = normalize(N);
-    vector Vn = normalize(-I);
+    // Towards the viewer: Blender's Geometry > Incoming where linked (Cycles 4.5 and 5.0 hand OSL
+    // an I that points towards the viewer, against OSL's spec), else -I (OSL's spec, testshade).
+    vector Vn = Incoming != vector(0.0, 0.0, 0.0) ? normalize(Incoming) : normalize(-I);
     vector Ln = normalize(LightDirection);
     float cos_i = dot(Nn, Ln);
     float cos_s = dot(Nn, Vn);
@@ -60,7 +63,8 @@ std::string comment_lines(const std::string& header_comment) {
   std::istringstream comment(header_comment);
   for (std::string line; std::getline(comment, line);) o << "// " << line << "\n";
   o << "//\n"
-       "// Inputs: LightDirection = unit vector towards the sun (world space), SunStrength (W/m^2) and\n"
+       "// Inputs: LightDirection = unit vector towards the sun (world space), Incoming = towards the\n"
+       "// viewer (Blender's Geometry > Incoming; zero: -I), SunStrength (W/m^2) and\n"
        "// SunColor of the sun lamp. Outputs: BSDF = Radiance * emission() + SpecularWeight * reflection(N),\n"
        "// Radiance = f_r * cos(theta_i) * SunStrength * SunColor, SpecularWeight = R_spec(theta_v).\n";
   return o.str();

@@ -17,18 +17,25 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import brdfcli  # noqa: E402  (the one wrapper around `brdf eval`)
 
 
+PASS_ALIASES = {"Emission": "Emit"}  # Blender 5.0's name of the Emit pass
+
+
 def read_passes(path):
-    """{pass name: HxWxC float array} of a Blender multilayer EXR (rows top to bottom)."""
-    buf = oiio.ImageBuf(path)
-    if buf.has_error:
-        raise RuntimeError(f"{path}: {buf.geterror()}")
-    spec = buf.spec()
-    pixels = buf.get_pixels(oiio.FLOAT).reshape(spec.height, spec.width, spec.nchannels)
+    """{pass name: HxWxC float array} of a Blender multilayer EXR (rows top to bottom). Blender
+    3.4 and 4.5 write one part with every pass; 5.0 one part per pass and calls Emit "Emission"."""
     passes = {}
-    for index, name in enumerate(spec.channelnames):
-        parts = name.split(".")
-        layer_pass, channel = ".".join(parts[-2:-1]), parts[-1]
-        passes.setdefault(layer_pass, {})[channel] = pixels[:, :, index]
+    first = oiio.ImageBuf(path)
+    if first.has_error:
+        raise RuntimeError(f"{path}: {first.geterror()}")
+    for subimage in range(max(first.nsubimages, 1)):
+        buf = oiio.ImageBuf(path, subimage, 0)
+        spec = buf.spec()
+        pixels = buf.get_pixels(oiio.FLOAT).reshape(spec.height, spec.width, spec.nchannels)
+        for index, name in enumerate(spec.channelnames):
+            parts = name.split(".")
+            layer_pass, channel = ".".join(parts[-2:-1]), parts[-1]
+            layer_pass = PASS_ALIASES.get(layer_pass, layer_pass)
+            passes.setdefault(layer_pass, {})[channel] = pixels[:, :, index]
     out = {}
     for name, channels in passes.items():
         order = [c for c in ("R", "G", "B", "X", "Y", "Z", "A") if c in channels]
@@ -98,6 +105,15 @@ def predicted_spike(brdf, model, channels, normals, view, world):
     return out
 
 
+def blender_command(blender, script, *arguments):
+    """The command that runs `script` (with `arguments` after "--") in a headless Blender:
+    `blender` is a Blender program (Debian's 3.4) or the Python of a venv holding bpy from PyPI
+    (Blender 4.5 LTS / 5.0 as a module; BLENDER_USER_CONFIG keeps its settings factory)."""
+    if os.path.basename(blender).startswith("python"):
+        return [blender, script, "--", *arguments]
+    return [blender, "-b", "--factory-startup", "--python-exit-code", "1", "--python", script, "--", *arguments]
+
+
 def run_blender_job(tmp, renders, blender, brdf, root, addon_zip, eevee_hint=""):
     """Runs tools/blender_render_job.py in a headless Blender (factory settings, the add-on
     installed from its zip into a private user-scripts folder) on `renders`. Returns the results
@@ -116,8 +132,7 @@ def run_blender_job(tmp, renders, blender, brdf, root, addon_zip, eevee_hint="")
     env = dict(os.environ, LIBBRDF_BRDF_EXE=os.path.abspath(brdf) if os.path.sep in brdf else shutil.which(brdf),
                BLENDER_USER_SCRIPTS=os.path.join(tmp, "user_scripts"), BLENDER_USER_CONFIG=os.path.join(tmp, "user_config"),
                TMPDIR=tmp)
-    done = subprocess.run([blender, "-b", "--factory-startup", "--python-exit-code", "1",
-                           "--python", os.path.join(root, "tools", "blender_render_job.py"), "--", job_path],
+    done = subprocess.run(blender_command(blender, os.path.join(root, "tools", "blender_render_job.py"), job_path),
                           env=env, capture_output=True, text=True)
     log = done.stdout + done.stderr
     if done.returncode != 0 or not os.path.isfile(job["results"]):
