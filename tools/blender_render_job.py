@@ -8,7 +8,8 @@ JOB.json (written by tools/render_blender_comparison.py and tests/blender/test_b
    "renders": [{
       "output": PATH.exr,                      # multilayer EXR: Combined + requested passes
       "resolution": [W, H], "samples": 1, "engine": "CYCLES" | "BLENDER_EEVEE", "filter_width": 0.01,
-      "camera": {"direction": [x, y, z], "ortho_scale": S},   # direction: from the origin to the camera
+      "camera": {"direction": [x, y, z], "ortho_scale": S,    # direction: from the target to the camera
+                 "target": [x, y, z]},                        # (default: the origin)
       "sun": {"direction": [x, y, z], "strength": E, "color": [r, g, b], "angle_deg": 0, "shadow": true},
       "world": [r, g, b],                      # constant background radiance
       "extra_suns": [{same keys as "sun"}, ...],  # LUT/OSL materials sum every sun (optional)
@@ -207,7 +208,7 @@ def main():
             extra.data.angle = math.radians(spec.get("angle_deg", 0.0))
             extra.data.use_shadow = spec.get("shadow", True)
         camera_direction = mathutils.Vector(r["camera"]["direction"]).normalized()
-        cam.location = camera_direction * 10.0
+        cam.location = mathutils.Vector(r["camera"].get("target", (0.0, 0.0, 0.0))) + camera_direction * 10.0
         cam.rotation_euler = look_rotation(camera_direction)
         cam.data.ortho_scale = r["camera"].get("ortho_scale", 2.4)
         cam.data.clip_end = 100.0
