@@ -15,6 +15,10 @@ req="$root/scripts/requirements/$name.txt"
 venv_root=${LIBBRDF_VENV_ROOT:-$HOME/.cache/libbrdf/venv}
 venv="$venv_root/$name"
 want=$(sha256sum "$req" | cut -c1-16)
+mkdir -p "$venv_root"
+# One maker at a time (ctest runs tests in parallel that may ask for the same venv).
+exec 9>"$venv_root/.$name.lock"
+flock 9
 if [[ -x $venv/bin/python && -f $venv/.requirements-hash && $(cat "$venv/.requirements-hash") == "$want" ]]; then
   echo "$venv"
   exit 0
@@ -32,7 +36,6 @@ fi
 [[ -n $python ]] || { echo "python_env.sh: no CPython 3.11 with venv and ensurepip on PATH (bpy and mitsuba need 3.11)" >&2; exit 3; }
 # The hash is written last: a venv without it (an interrupted install) is rebuilt from scratch.
 rm -rf "$venv"
-mkdir -p "$venv_root"
 "$python" -m venv "$venv" >&2
 if ! "$venv/bin/python" -m pip install -q --disable-pip-version-check -r "$req" >&2; then
   rm -rf "$venv"

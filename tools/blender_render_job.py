@@ -124,8 +124,16 @@ def add_object(scene, spec):
     return obj
 
 
+def engine_name(engine):
+    """The job's engine name in this Blender: EEVEE is BLENDER_EEVEE_NEXT in 4.2 - 4.5."""
+    available = bpy.types.RenderSettings.bl_rna.properties["engine"].enum_items.keys()
+    if engine == "BLENDER_EEVEE" and engine not in available and "BLENDER_EEVEE_NEXT" in available:
+        return "BLENDER_EEVEE_NEXT"
+    return engine
+
+
 def configure_render(scene, r):
-    scene.render.engine = r.get("engine", "CYCLES")
+    scene.render.engine = engine_name(r.get("engine", "CYCLES"))
     scene.render.resolution_x, scene.render.resolution_y = r.get("resolution", (96, 96))
     scene.render.resolution_percentage = 100
     scene.render.film_transparent = False

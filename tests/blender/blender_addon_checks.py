@@ -9,9 +9,9 @@ import os
 import time
 import sys
 
-import addon_utils
-import bpy
-import mathutils
+import bpy  # first: as a Python module (bpy from PyPI) it puts addon_utils on sys.path
+import addon_utils  # noqa: E402
+import mathutils  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import checks  # noqa: E402
@@ -68,7 +68,8 @@ def main():
     check(result == {"FINISHED"} and group is not None, "FIT without a sun: material with a libbrdf group")
     if group:
         kinds = {n.bl_idname for n in group.node_tree.nodes}
-        glossy = [n for n in group.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfGlossy"]
+        # Blender 4.0 merged Glossy into the Anisotropic BSDF: "ShaderNodeBsdfGlossy" makes one of those.
+        glossy = [n for n in group.node_tree.nodes if n.bl_idname in ("ShaderNodeBsdfGlossy", "ShaderNodeBsdfAnisotropic")]
         check("ShaderNodeTexImage" not in kinds and any(n.distribution == "BECKMANN" for n in glossy),
               "FIT group: Beckmann Glossy, no image")
         surface = next(n for n in mat.node_tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial").inputs["Surface"]

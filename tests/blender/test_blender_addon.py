@@ -1,8 +1,9 @@
 """Installs the add-on into a headless Blender and runs blender_addon_checks.py there
 (registration, presets, operator errors, FIT/LUT/OSL set-up, drivers, unregister).
-Usage: test_blender_addon.py   (env BRDF_EXE, LIBBRDF_ROOT)
+Usage: test_blender_addon.py [--blender debian|4.5|5.0]   (env BRDF_EXE, LIBBRDF_ROOT)
 """
 
+import argparse
 import os
 import re
 import shutil
@@ -13,19 +14,22 @@ import tempfile
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.dirname(HERE))
-from test_blender_render import BLENDER, BRDF, ROOT  # noqa: E402
+from blender_test_env import BLENDER_VERSIONS, BRDF, ROOT, blender_program  # noqa: E402
+from render_check import blender_command  # noqa: E402
 sys.path.insert(0, os.path.join(ROOT, "blender_addon"))
 import checks  # noqa: E402
 from package import addon_zip  # noqa: E402
 
 
 def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--blender", default="debian", choices=BLENDER_VERSIONS)
+    program = blender_program(parser.parse_args().blender)
     with tempfile.TemporaryDirectory() as tmp:
         env = dict(os.environ, LIBBRDF_BRDF_EXE=os.path.abspath(BRDF) if os.path.sep in BRDF else shutil.which(BRDF),
                    BLENDER_USER_SCRIPTS=os.path.join(tmp, "user_scripts"),
                    BLENDER_USER_CONFIG=os.path.join(tmp, "user_config"), TMPDIR=tmp)
-        done = subprocess.run([BLENDER, "-b", "--factory-startup", "--python-exit-code", "1", "--python",
-                               os.path.join(HERE, "blender_addon_checks.py"), "--", addon_zip(tmp)],
+        done = subprocess.run(blender_command(program, os.path.join(HERE, "blender_addon_checks.py"), addon_zip(tmp)),
                               env=env, capture_output=True, text=True)
         # blender_addon_checks.py uses tests/checks.py: its last summary line counts the checks.
         lines = [line for line in done.stdout.splitlines()

@@ -15,7 +15,7 @@ pixel's angles (tests/blender/render_check.py):
             mirror lobe (Combined - Emit) = R_spec(theta_v) x world colour within 2%.
   FIT mode: one scene path traced with Glossy (Beckmann); its difference to LUT mode is printed
             (the FIT renders' own test is test_blender_fit.py).
-Usage: test_blender_render.py [--engine CYCLES|BLENDER_EEVEE] [--keep DIR]
+Usage: test_blender_render.py [--engine CYCLES|BLENDER_EEVEE] [--blender debian|4.5|5.0] [--keep DIR]
   (env BRDF_EXE, LIBBRDF_ROOT; exit 77 = skipped: EEVEE without an OpenGL context)
 """
 
@@ -34,6 +34,7 @@ sys.path.insert(0, os.path.dirname(HERE))
 sys.path.insert(0, os.path.join(ROOT, "blender_addon"))
 import checks  # noqa: E402
 import render_check  # noqa: E402
+from blender_test_env import BLENDER_VERSIONS, blender_program  # noqa: E402
 from checks import check  # noqa: E402
 from package import addon_zip  # noqa: E402
 
@@ -109,8 +110,10 @@ def analyse(render, result):
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--engine", default="CYCLES", choices=["CYCLES", "BLENDER_EEVEE"])
+    parser.add_argument("--blender", default="debian", choices=BLENDER_VERSIONS)
     parser.add_argument("--keep", help="keep the renders and tables in this folder")
     args = parser.parse_args()
+    args.program = BLENDER if args.blender == "debian" else blender_program(args.blender)
     tmp = args.keep or tempfile.mkdtemp(prefix="libbrdf_blender_")
     os.makedirs(tmp, exist_ok=True)
     try:
@@ -122,7 +125,7 @@ def main():
 
 def run(args, tmp):
     renders = scenes(tmp, args.engine)
-    results = render_check.run_blender_job(tmp, renders, BLENDER, BRDF, ROOT, addon_zip,
+    results = render_check.run_blender_job(tmp, renders, args.program, BRDF, ROOT, addon_zip,
                                            "" if args.engine == "CYCLES" else " (EEVEE)")
     check(all(os.path.join(tmp, "user_scripts") in r["addon_file"] for r in results),
           f"add-on installed by Blender's installer into the user scripts folder ({results[0]['addon_file']})")
