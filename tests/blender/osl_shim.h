@@ -35,6 +35,8 @@ inline Triple operator-(Triple a) { return {-a.x, -a.y, -a.z}; }
 inline Triple operator*(Triple a, Triple b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
 inline Triple operator*(Triple a, float s) { return {a.x * s, a.y * s, a.z * s}; }
 inline Triple operator*(float s, Triple a) { return a * s; }
+inline bool operator==(Triple a, Triple b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
+inline bool operator!=(Triple a, Triple b) { return !(a == b); }
 
 inline float floor(float x) { return std::floor(x); }
 inline float sqrt(float x) { return std::sqrt(x); }

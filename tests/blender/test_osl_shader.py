@@ -36,7 +36,7 @@ from libbrdf_materials import core, nodegraph  # noqa: E402
 from test_nodegraph import random_geometries  # noqa: E402
 
 CXX = sys.argv[1] if len(sys.argv) > 1 else os.environ.get("CXX", "c++")
-LIGHT_PARAMETERS = ["LightDirection", "SunStrength", "SunColor", "BSDF", "Radiance", "SpecularWeight"]
+LIGHT_PARAMETERS = ["LightDirection", "Incoming", "SunStrength", "SunColor", "BSDF", "Radiance", "SpecularWeight"]
 
 
 def split_top_level(text):
@@ -87,9 +87,13 @@ int main(int argc, char** argv) {
     if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, image.rgb.data())) return 2;
   }
   float n[3], l[3], v[3], e, c[3];
+  long query = 0;
   while (std::cin >> n[0] >> n[1] >> n[2] >> l[0] >> l[1] >> l[2] >> v[0] >> v[1] >> v[2] >> e >> c[0] >> c[1] >> c[2]) {
     osl::N = osl::Triple(n[0], n[1], n[2]);
     osl::I = -osl::Triple(v[0], v[1], v[2]);
+    // Incoming (towards the viewer, Blender's Geometry > Incoming) on every other query, zero (the
+    // shader then takes -I, OSL's convention) on the others: both paths give the same radiance.
+    const osl::Triple incoming = (++query % 2) ? osl::Triple(v[0], v[1], v[2]) : osl::Triple(0.0f, 0.0f, 0.0f);
     osl::Closure bsdf;
     osl::color radiance, specular;
     const osl::Triple light(l[0], l[1], l[2]), colour(c[0], c[1], c[2]);
@@ -118,7 +122,7 @@ def build_harness(tmp, shaders):
         # Each shader defines its own LIBBRDF_* macros: undefined before the next one.
         parts += [f"#undef {name}" for name in sorted(set(re.findall(r"^#define (\w+)", cpp, re.M)))]
         arguments = "".join(f'"{path}", ' for path in strings.values())
-        cases.append(f"      case {index}: osl::v{index}::shader_entry({arguments}light, e, colour, bsdf, radiance, specular); break;")
+        cases.append(f"      case {index}: osl::v{index}::shader_entry({arguments}light, incoming, e, colour, bsdf, radiance, specular); break;")
     with open(os.path.join(tmp, "harness.cpp"), "w", encoding="utf-8") as f:
         f.write("\n".join(parts) + HARNESS_MAIN.replace("CASES", "\n".join(cases)))
     exe = os.path.join(tmp, "osl_harness")
