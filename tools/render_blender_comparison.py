@@ -176,7 +176,7 @@ def main():
         with open(job_path, "w", encoding="utf-8") as f:
             json.dump(job, f, indent=1)
         env = dict(os.environ, LIBBRDF_BRDF_EXE=brdf, BLENDER_USER_SCRIPTS=os.path.join(work, "scripts"),
-                   BLENDER_USER_CONFIG=os.path.join(work, "config"), TMPDIR=work)
+                   BLENDER_USER_CONFIG=os.path.join(work, "config"), TMPDIR=work, XDG_CACHE_HOME=os.path.join(work, "cache"))
         done = subprocess.run([args.blender, "-b", "--factory-startup", "--python-exit-code", "1", "--python",
                                os.path.join(ROOT, "tools", "blender_render_job.py"), "--", job_path],
                               env=env, capture_output=True, text=True)

@@ -68,7 +68,7 @@ def blender_render(brdf, surfaces, out, size, samples, tmp):
     job = {"addon": {"zip": addon_zip(tmp)}, "results": str(Path(tmp) / "results.json"), "renders": [render]}
     job_path = Path(tmp) / "job.json"
     job_path.write_text(json.dumps(job, indent=1))
-    env = dict(os.environ, LIBBRDF_BRDF_EXE=str(Path(brdf).resolve()), TMPDIR=tmp,
+    env = dict(os.environ, LIBBRDF_BRDF_EXE=str(Path(brdf).resolve()), TMPDIR=tmp, XDG_CACHE_HOME=os.path.join(tmp, "cache"),
                BLENDER_USER_SCRIPTS=str(Path(tmp) / "scripts"), BLENDER_USER_CONFIG=str(Path(tmp) / "config"))
     done = subprocess.run(["blender", "-b", "--factory-startup", "--python-exit-code", "1", "--python",
                            str(ROOT / "tools" / "blender_render_job.py"), "--", str(job_path)],

@@ -2,7 +2,6 @@
 drives its light inputs from the scene's first Sun lamp. Works with Blender 3.4 to 4.x."""
 
 import os
-import tempfile
 
 import bpy
 
@@ -200,6 +199,21 @@ def drive_light_inputs(material, group_node, sun):
     drive("Sun Strength", -1, "LIGHT", sun.data, "energy")
 
 
+def turn_off_unavailable_denoiser(scene):
+    """Cycles denoises final renders by default; a Blender built without OpenImageDenoise (Debian's
+    3.4) then fails every render ("Build without OpenImageDenoiser"). Turns denoising off in that
+    case only and says so (None when nothing changed)."""
+    try:
+        import _cycles
+    except ImportError:  # Cycles not loaded: nothing to render with it yet
+        return None
+    cycles = getattr(scene, "cycles", None)
+    if cycles is None or getattr(_cycles, "with_openimagedenoise", True) or not cycles.use_denoising:
+        return None
+    cycles.use_denoising = False
+    return "Cycles: render denoising turned off (this Blender has no OpenImageDenoise)"
+
+
 def apply_graph(obj, graph, scene, description_path=""):
     """Builds the group, attaches it to the object's active material and wires the sun.
     Returns (material, group node, messages)."""
@@ -208,6 +222,9 @@ def apply_graph(obj, graph, scene, description_path=""):
     if graph.notes.get("mode") in ("LUT", "OSL") and sun is None:
         raise SetupError("scene: LUT and OSL modes need a Sun lamp (its direction and strength drive the material)")
     material = material_for(obj)
+    message = turn_off_unavailable_denoiser(scene)
+    if message:
+        messages.append(message)
     tree = build_node_group(graph)
     tree["libbrdf_description"] = description_path  # where the table and its parameters are
     if graph.notes.get("mode") == "OSL":
@@ -261,9 +278,12 @@ def attach_extra_suns(material, group, suns):
 
 
 def cache_directory(preferences_directory=""):
-    """Where baked tables go: the preference, else beside the saved .blend, else a temp folder."""
+    """Where baked tables go: the preference, else libbrdf_tables beside the saved .blend, else the
+    user's cache ($XDG_CACHE_HOME, default ~/.cache, /libbrdf/blender_tables): never a temporary
+    folder, which a saved .blend would point into after a reboot."""
     if preferences_directory:
         return bpy.path.abspath(preferences_directory)
     if bpy.data.filepath:
         return os.path.join(os.path.dirname(bpy.data.filepath), "libbrdf_tables")
-    return os.path.join(tempfile.gettempdir(), "libbrdf_tables")
+    cache_home = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return os.path.join(cache_home, "libbrdf", "blender_tables")

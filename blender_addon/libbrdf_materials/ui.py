@@ -15,7 +15,7 @@ class LIBBRDF_AddonPreferences(bpy.types.AddonPreferences):
         description="Path of libbrdf's `brdf` program (empty: $LIBBRDF_BRDF_EXE, else `brdf` on PATH)")
     cache_directory: StringProperty(
         name="Table folder", subtype="DIR_PATH", default="",
-        description="Where baked tables are kept (empty: libbrdf_tables beside the .blend, else a temporary folder)")
+        description="Where baked tables are kept (empty: libbrdf_tables beside the saved .blend, else ~/.cache/libbrdf/blender_tables)")
 
     def draw(self, context):
         layout = self.layout

@@ -89,6 +89,30 @@ def main():
           f"LUT group: 26 Closest lookups of three images ({len(images)}, {len({i.name for i in images})})")
     check(all(i.colorspace_settings.name == "Non-Color" and not i.use_half_precision and i.size[0] > 0 for i in images),
           f"images loaded as Non-Color float ({sorted({tuple(i.size) for i in images})})")
+    # An unsaved .blend keeps its tables in the user's cache, not a temporary folder (test_blender_addon.py
+    # points XDG_CACHE_HOME into its own folder).
+    cache = os.path.join(os.environ["XDG_CACHE_HOME"], "libbrdf", "blender_tables")
+    check(all(os.path.dirname(bpy.path.abspath(i.filepath)) == cache for i in images),
+          f"tables in the user's cache {cache} ({sorted({os.path.dirname(i.filepath) for i in images})})")
+    # The user's first render: Cycles denoises by default, which a Blender without OpenImageDenoise
+    # (Debian's 3.4) cannot; the add-on turned it off there, so the render completes.
+    import _cycles
+    has_oidn = getattr(_cycles, "with_openimagedenoise", True)
+    check(has_oidn or not scene.cycles.use_denoising,
+          f"denoising {'left on (OpenImageDenoise present)' if has_oidn else 'turned off: no OpenImageDenoise'}")
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    scene.collection.objects.link(camera)
+    camera.location = (0.0, -6.0, 0.0)
+    camera.rotation_euler = (1.5708, 0.0, 0.0)
+    scene.camera = camera
+    scene.render.engine = "CYCLES"
+    scene.cycles.samples = 1
+    scene.render.resolution_x = scene.render.resolution_y = 16
+    try:
+        rendered = bpy.ops.render.render()
+    except RuntimeError as e:
+        rendered = {str(e).strip()}
+    check(rendered == {"FINISHED"}, f"a first Cycles render with the add-on's defaults completes ({rendered})")
     # A roughness change: the add-on exports again (only K and R_spec are re-baked) and rebuilds the group.
     start = time.perf_counter()
     result, _ = run_operator(model="bk-modified", material="Cu", sigma_s=0.07, lc=2.5, mode="LUT",
@@ -120,6 +144,11 @@ def main():
           and script.filepath.endswith(".osl") and os.path.isfile(script.filepath),
           f"OSL group: Script node on the generated shader ({script.filepath if script else None})")
     check(scene.cycles.shading_system, "OSL mode turns Cycles' Open Shading Language on")
+    if getattr(_cycles, "with_osl", False):  # Blender 4.5 / 5.0 from PyPI: compiled, view from Incoming
+        incoming = script.inputs.get("Incoming") if script else None
+        check(script is not None and len(script.outputs) == 3 and incoming is not None and incoming.is_linked
+              and incoming.links[0].from_socket.name == "Incoming",
+              "OSL compiled by this Blender; its Incoming fed by Geometry > Incoming")
     with open(script.filepath, encoding="utf-8") as f:
         check("shader libbrdf_" in f.read(), "the Script node's file is a libbrdf shader")
 

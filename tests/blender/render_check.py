@@ -131,7 +131,7 @@ def run_blender_job(tmp, renders, blender, brdf, root, addon_zip, eevee_hint="")
         json.dump(job, f, indent=1)
     env = dict(os.environ, LIBBRDF_BRDF_EXE=os.path.abspath(brdf) if os.path.sep in brdf else shutil.which(brdf),
                BLENDER_USER_SCRIPTS=os.path.join(tmp, "user_scripts"), BLENDER_USER_CONFIG=os.path.join(tmp, "user_config"),
-               TMPDIR=tmp)
+               TMPDIR=tmp, XDG_CACHE_HOME=os.path.join(tmp, "cache"))
     done = subprocess.run(blender_command(blender, os.path.join(root, "tools", "blender_render_job.py"), job_path),
                           env=env, capture_output=True, text=True)
     log = done.stdout + done.stderr

@@ -28,7 +28,8 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         env = dict(os.environ, LIBBRDF_BRDF_EXE=os.path.abspath(BRDF) if os.path.sep in BRDF else shutil.which(BRDF),
                    BLENDER_USER_SCRIPTS=os.path.join(tmp, "user_scripts"),
-                   BLENDER_USER_CONFIG=os.path.join(tmp, "user_config"), TMPDIR=tmp)
+                   BLENDER_USER_CONFIG=os.path.join(tmp, "user_config"), TMPDIR=tmp,
+                   XDG_CACHE_HOME=os.path.join(tmp, "cache"))
         done = subprocess.run(blender_command(program, os.path.join(HERE, "blender_addon_checks.py"), addon_zip(tmp)),
                               env=env, capture_output=True, text=True)
         # blender_addon_checks.py uses tests/checks.py: its last summary line counts the checks.
