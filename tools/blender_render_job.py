@@ -18,6 +18,7 @@ JOB.json (written by tools/render_blender_comparison.py and tests/blender/test_b
       "objects": [{"shape": "sphere"|"torus"|"ellipsoid"|"monkey"|"cube"|"plane",
                    "segments": 96, "rings": 48,    # the spheres' tessellation
                    "diffuse": [r, g, b],           # instead of "material": a Lambertian surface
+                   "principled": {"roughness": R, "color": [r, g, b]},  # or a metallic Principled BSDF
                    "location": [...], "scale": [...], "rotation_deg": [...], "visible_glossy": true,
                    "material": {operator arguments of bpy.ops.libbrdf.add_material}}]}]}
 
@@ -30,6 +31,7 @@ point at its centre: the Normal pass and the colour come from the same point).
 import json
 import math
 import sys
+import time
 
 import bpy  # first: as a Python module (bpy from PyPI) it puts addon_utils on sys.path
 import addon_utils  # noqa: E402
@@ -105,6 +107,15 @@ def add_object(scene, spec):
     obj.rotation_euler = [math.radians(a) for a in spec.get("rotation_deg", (0.0, 0.0, 0.0))]
     obj.visible_glossy = spec.get("visible_glossy", True)  # seen in other objects' glossy reflections
     bpy.context.view_layer.objects.active = obj
+    if "principled" in spec:  # a stock Principled BSDF (the renderer-cost reference): metal of that roughness
+        material = bpy.data.materials.new(f"principled {obj.name}")
+        material.use_nodes = True
+        principled = next(n for n in material.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
+        principled.inputs["Base Color"].default_value = (*spec["principled"].get("color", (0.8, 0.8, 0.8)), 1.0)
+        principled.inputs["Metallic"].default_value = 1.0
+        principled.inputs["Roughness"].default_value = spec["principled"]["roughness"]
+        obj.data.materials.append(material)
+        return obj
     if "diffuse" in spec:  # a plain Lambertian surface (ground, props), not a libbrdf material
         material = bpy.data.materials.new(f"diffuse {obj.name}")
         material.use_nodes = True
@@ -162,6 +173,9 @@ def configure_render(scene, r):
         # Cycles' default 0.01 terminates light samples below that contribution at random (0 or
         # 0.01 per pixel at 1 sample): off, so that dim pixels are exact too.
         c.light_sampling_threshold = 0.0
+        if "threads" in r:  # a fixed thread count (renderer-cost benchmarks); default: all cores
+            scene.render.threads_mode = "FIXED"
+            scene.render.threads = r["threads"]
     else:
         scene.eevee.taa_render_samples = r.get("samples", 1)
     layer = scene.view_layers[0]
@@ -229,14 +243,16 @@ def main():
                 add_object(scene, spec)
         bpy.context.view_layer.update()
         scene.render.filepath = r["output"]
+        started = time.perf_counter()
         bpy.ops.render.render(write_still=True)
+        render_seconds = time.perf_counter() - started  # scene sync, kernels, samples and the file
 
         # What the materials saw (driver values after evaluation) and where their tables are.
         depsgraph = bpy.context.evaluated_depsgraph_get()
         materials = []
         for obj in [o for o in scene.objects if o.type == "MESH"]:
             mat = obj.active_material
-            group = mat.node_tree.nodes.get("libbrdf")
+            group = mat.node_tree.nodes.get("libbrdf") if mat else None
             if group is None:  # a plain surface ("diffuse")
                 continue
             evaluated = mat.evaluated_get(depsgraph).node_tree.nodes.get("libbrdf")
@@ -257,6 +273,7 @@ def main():
             "camera_direction": list(cam.matrix_world.col[2].xyz.normalized()),
             "sun_direction": list(sun.matrix_world.col[2].xyz.normalized()),
             "sun_strength": sun.data.energy,
+            "render_seconds": render_seconds,
             "sun_color": list(sun.data.color),
             "materials": materials,
             "blender": bpy.app.version_string,

@@ -248,15 +248,15 @@ EXTRA_SUN_PREFIX = "libbrdf sun "
 def attach_extra_suns(material, group, suns):
     """Every Sun after the first lights the material too: one more instance of the same node group
     per sun (its own drivers: direction, strength, colour), whose Radiance is emitted and added to
-    the first group's Shader (emission + mirror lobe). The table is shared; only the few light
-    nodes run once per sun. Suns added later need the material applied again."""
+    the first group's Shader (emission + mirror lobe), and its EEVEE Radiance to the EEVEE Shader
+    where the group has one (LUT mode). The table is shared; only the few light nodes run once
+    per sun. Suns added later need the material applied again."""
     nodes, links = material.node_tree.nodes, material.node_tree.links
     for node in [n for n in nodes if n.name.startswith(EXTRA_SUN_PREFIX)]:
         nodes.remove(node)
     if not suns:
         return
-    output = next(link.to_node for link in group.outputs["Shader"].links)
-    total = group.outputs["Shader"]
+    extras = []
     for index, sun in enumerate(suns, start=2):
         extra = nodes.new("ShaderNodeGroup")
         extra.name = f"{EXTRA_SUN_PREFIX}{index}"
@@ -264,17 +264,25 @@ def attach_extra_suns(material, group, suns):
         extra.node_tree = group.node_tree
         extra.location = (group.location.x, group.location.y - 220 * (index - 1))
         drive_light_inputs(material, extra, sun)
-        emission = nodes.new("ShaderNodeEmission")
-        emission.name = f"{EXTRA_SUN_PREFIX}{index} emission"
-        emission.location = (extra.location.x + 180, extra.location.y)
-        links.new(extra.outputs["Radiance"], emission.inputs["Color"])
-        add = nodes.new("ShaderNodeAddShader")
-        add.name = f"{EXTRA_SUN_PREFIX}{index} add"
-        add.location = (emission.location.x + 160, emission.location.y)
-        links.new(total, add.inputs[0])
-        links.new(emission.outputs[0], add.inputs[1])
-        total = add.outputs[0]
-    links.new(total, output.inputs["Surface"])
+        extras.append(extra)
+    outputs = [("Shader", "Radiance", "")]
+    if nodegraph.EEVEE_SHADER_OUTPUT[0] in group.outputs and nodegraph.EEVEE_RADIANCE_OUTPUT[0] in group.outputs:
+        outputs.append((nodegraph.EEVEE_SHADER_OUTPUT[0], nodegraph.EEVEE_RADIANCE_OUTPUT[0], " eevee"))
+    for shader_name, radiance_name, tag in outputs:
+        output = next(link.to_node for link in group.outputs[shader_name].links)
+        total = group.outputs[shader_name]
+        for extra in extras:
+            emission = nodes.new("ShaderNodeEmission")
+            emission.name = f"{extra.name}{tag} emission"
+            emission.location = (extra.location.x + 180, extra.location.y - (90 if tag else 0))
+            links.new(extra.outputs[radiance_name], emission.inputs["Color"])
+            add = nodes.new("ShaderNodeAddShader")
+            add.name = f"{extra.name}{tag} add"
+            add.location = (emission.location.x + 160, emission.location.y)
+            links.new(total, add.inputs[0])
+            links.new(emission.outputs[0], add.inputs[1])
+            total = add.outputs[0]
+        links.new(total, output.inputs["Surface"])
 
 
 def cache_directory(preferences_directory=""):

@@ -80,11 +80,15 @@ class Graph:
 
 
 class _Builder:
-    """Adds nodes and links; arguments are constants or Out sockets."""
+    """Adds nodes and links; arguments are constants or Out sockets. `filtered`: table lookups
+    through the renderer's own bilinear filtering (Linear interpolation, one fetch per 2 x 2 nodes:
+    Cycles, which filters in float precision); else Closest fetches of each node and the
+    interpolation in nodes (EEVEE, whose GPU filtering has 8-bit weights and mip levels)."""
 
-    def __init__(self, graph):
+    def __init__(self, graph, filtered=False):
         self.g = graph
         self.count = 0
+        self.filtered = filtered
 
     def add(self, type_, props=None, label=""):
         self.count += 1
@@ -139,11 +143,18 @@ class _Builder:
         """Angle between unit vectors a, b: atan2(|a x b|, a.b)."""
         return self.math("ARCTAN2", self.length(self.vmath("CROSS_PRODUCT", a, b)), self.dot(a, b))
 
-    def texel(self, image_key, uv, label=""):
-        n = self.add("ShaderNodeTexImage", {"image": image_key, "interpolation": "Closest",
+    def texel(self, image_key, uv, label="", interpolation="Closest"):
+        n = self.add("ShaderNodeTexImage", {"image": image_key, "interpolation": interpolation,
                                             "extension": "EXTEND"}, label)
         self.connect(n, 0, uv)
         return Out(n.id, 0)
+
+    def bilinear(self, image_key, x, y, width, height, label=""):
+        """The image bilinear at texel position (x, y) (node index units, texel centres at integers),
+        one Linear fetch at ((x + 0.5)/W, (y + 0.5)/H). Callers keep x, y inside one tile."""
+        uv = self.combine(self.math("DIVIDE", self.math("ADD", x, 0.5), float(width)),
+                          self.math("DIVIDE", self.math("ADD", y, 0.5), float(height)))
+        return self.texel(image_key, uv, label=label, interpolation="Linear")
 
 
 def _group(name):
@@ -184,6 +195,11 @@ def _atlas_trilinear(b, image_key, atlas, u0, u1, u2):
         k = b.math("ADD", i2, dk) if dk else i2
         tile_row = b.math("FLOOR", b.math("DIVIDE", b.math("ADD", k, 0.5), float(columns)))
         tile_column = b.math("SUBTRACT", k, b.math("MULTIPLY", tile_row, float(columns)))
+        if b.filtered:  # i + t stays in [i, i + 1] inside the tile: the filter never reaches the next tile
+            x = b.math("MULTIPLY_ADD", tile_column, float(n0), b.math("ADD", i0, t0))
+            y = b.math("MULTIPLY_ADD", tile_row, float(n1), b.math("ADD", i1, t1))
+            tiles.append(b.bilinear(image_key, x, y, width, height, label=f"nodes i0, i1 bilinear, k+{int(dk)}"))
+            continue
         x = b.math("MULTIPLY_ADD", tile_column, float(n0), b.math("ADD", i0, 0.5))
         y = b.math("MULTIPLY_ADD", tile_row, float(n1), b.math("ADD", i1, 0.5))
         base = b.vmath("MULTIPLY", b.combine(x, y), inv_size)
@@ -201,6 +217,8 @@ def _atlas_trilinear(b, image_key, atlas, u0, u1, u2):
 def _row(b, image_key, theta, nodes, row, width, height, label):
     """A table row over theta = (pi/2) j/(nodes-1) (texels x = j, y = row from the bottom), linear."""
     j, tj = b.split(b.math("MULTIPLY", theta, (nodes - 1) / (math.pi / 2)), nodes)
+    if b.filtered:
+        return b.bilinear(image_key, b.math("ADD", j, tj), float(row), width, height, label=f"{label} linear")
     uv0 = b.combine(b.math("DIVIDE", b.math("ADD", j, 0.5), float(width)), (row + 0.5) / height)
     uv1 = b.vmath("ADD", uv0, (1.0 / width, 0.0, 0.0))
     return b.lerp(b.texel(image_key, uv0, label=f"{label} j"), b.texel(image_key, uv1, label=f"{label} j+1"), tj)
@@ -214,14 +232,14 @@ def _geometry_vectors(b):
     return n_vec, l_vec, v_vec
 
 
-def _atlas_graph(description, images, layout, image_key, atlas):
+def _atlas_graph(description, images, layout, image_key, atlas, filtered):
     """A LUT group's start: the geometry, the half/difference angles and the atlas' trilinear
     value at them (theta_h square-mapped for rusinkiewicz, uniform for the kernel's P~)."""
     n0, n1, n2 = atlas["theta_h"]["nodes"], atlas["theta_d"]["nodes"], atlas["phi_d"]["nodes"]
     g = _group(f"libbrdf {description['name']}")
     g.images.update(images)
     g.notes.update(mode="LUT", layout=layout, shape=(n0, n1, n2))
-    b = _Builder(g)
+    b = _Builder(g, filtered=filtered)
     vectors = _geometry_vectors(b)
     a = _half_difference(b, *vectors)
     fraction = b.math("DIVIDE", a["theta_h"], math.pi / 2)
@@ -240,14 +258,41 @@ def _lit_radiance(b, brdf, a):
 
 def lut_graph(description, images):
     """The LUT-mode node group for a description (dict from core.load_description); `images` maps
-    the image keys of the description's layout to absolute paths (graph_images)."""
+    the image keys of the description's layout to absolute paths (graph_images).
+    Two evaluations of the same tables in one group: "Shader" / "Radiance" / "Specular Weight"
+    through Linear (bilinear) fetches for Cycles, which filters in float precision: 8 fetches in
+    place of 26 and half the render time per sample (tools/bench/renderer_cost.py); "EEVEE Shader" /
+    "EEVEE Radiance" through Closest fetches interpolated in nodes, for EEVEE, whose GPU filter has
+    8-bit weights and mip levels. Each engine compiles only the nodes its own output reaches
+    (blender_nodes.attach_group gives each its Material Output)."""
+    cycles = _lut_graph_one(description, images, filtered=True)
+    eevee = _lut_graph_one(description, images, filtered=False)
+    cycles.outputs += [EEVEE_SHADER_OUTPUT, EEVEE_RADIANCE_OUTPUT]
+    renamed = {"Shader": EEVEE_SHADER_OUTPUT[0], "Radiance": EEVEE_RADIANCE_OUTPUT[0]}
+    prefix = "EEVEE."
+    for node in eevee.nodes:
+        node.id = prefix + node.id
+        cycles.nodes.append(node)
+    for source, to_node, to_socket in eevee.links:
+        if to_node == GROUP_OUTPUT and to_socket not in renamed:
+            continue  # one Specular Weight output (the same rows in both)
+        source = source if source.node == GROUP_INPUT else Out(prefix + source.node, source.socket)
+        if to_node == GROUP_OUTPUT:
+            cycles.links.append((source, GROUP_OUTPUT, renamed[to_socket]))
+        else:
+            cycles.links.append((source, prefix + to_node, to_socket))
+    return cycles
+
+
+def _lut_graph_one(description, images, filtered):
+    """One LUT evaluation (lut_graph): filtered (Linear fetches) or not (Closest)."""
     if description["lut"].get("layout") == "kernel":
-        return _kernel_lut_graph(description, images)
+        return _kernel_lut_graph(description, images, filtered)
     lut = description["lut"]
     width, height = lut["width"], lut["height"]
     spec_nodes, spec_row = lut["specular"]["nodes"], lut["specular"]["row"]
 
-    g, b, (n_vec, l_vec, v_vec), a, brdf = _atlas_graph(description, images, "rusinkiewicz", "atlas", lut)
+    g, b, (n_vec, l_vec, v_vec), a, brdf = _atlas_graph(description, images, "rusinkiewicz", "atlas", lut, filtered)
     radiance = _lit_radiance(b, brdf, a)
 
     # R_spec(theta_v) of the specular spike (row spec_row, nodes over [0, 90] deg).
@@ -268,6 +313,9 @@ def _kernel_sigma(b, image_key, sigma, g_value, c_value, channel):
     uz = b.math("DIVIDE", b.math("MINIMUM", b.math("SQRT", z2), z_max), dz)
     i, tx = b.split(ux, width)
     j, tz = b.split(uz, height)
+    if b.filtered:
+        s = b.bilinear(image_key, b.math("ADD", i, tx), b.math("ADD", j, tz), width, height, label=f"S bilinear ({channel})")
+        return _ln_sigma_to_sigma(b, s, x, g_value, z2, channel)
     base = b.combine(b.math("DIVIDE", b.math("ADD", i, 0.5), float(width)), b.math("DIVIDE", b.math("ADD", j, 0.5), float(height)))
     corner = {}
     for da in (0, 1):
@@ -275,13 +323,18 @@ def _kernel_sigma(b, image_key, sigma, g_value, c_value, channel):
             uv = b.vmath("ADD", base, (da / width, db / height, 0.0)) if (da or db) else base
             corner[da, db] = b.texel(image_key, uv, label=f"S i+{da} j+{db} ({channel})")
     s = b.lerp(b.lerp(corner[0, 0], corner[1, 0], tx), b.lerp(corner[0, 1], corner[1, 1], tx), tz)
-    s = b.dot(s, (1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0))  # R = G = B
+    return _ln_sigma_to_sigma(b, s, x, g_value, z2, channel)
+
+
+def _ln_sigma_to_sigma(b, s, x, g_value, z2, channel):
+    """Sigma = exp(S + x - ln(1 + g^2) - z^2) from the image's S (R = G = B)."""
+    s = b.dot(s, (1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0))
     log_one_g2 = b.math("LOGARITHM", b.math("MULTIPLY_ADD", g_value, g_value, 1.0), math.e)
     ln_sigma = b.math("SUBTRACT", b.math("SUBTRACT", b.math("ADD", s, x), log_one_g2), z2, label=f"ln Sigma ({channel})")
     return b.math("EXPONENT", ln_sigma, label=f"Sigma ({channel})")
 
 
-def _kernel_lut_graph(description, images):
+def _kernel_lut_graph(description, images, filtered):
     """LUT mode of the ASF models: the factored form (exporters/include/exporters/blender.h, kernel)
       f = K(theta_i) F(theta_d) P~(theta_h, theta_d, phi_d) C (pi l_c^2/lambda^2) Sigma(g, c),
       g = g_scale (N.L + N.V)^2 (eq. 12), c = c_scale |N x (L + V)|^2 (eq. 10), per channel;
@@ -289,7 +342,7 @@ def _kernel_lut_graph(description, images):
     the universal Sigma image; C = 1, F_bk^2 (eq. 27) or 1/S (eq. 28) from dot products."""
     lut = description["lut"]
     side, sigma = lut["side"], lut["sigma"]
-    g, b, (n_vec, l_vec, v_vec), a, angular_factor = _atlas_graph(description, images, "kernel", "angular", lut["angular"])
+    g, b, (n_vec, l_vec, v_vec), a, angular_factor = _atlas_graph(description, images, "kernel", "angular", lut["angular"], filtered)
 
     nodes, width, height = side["width"], side["width"], side["height"]
     rows = side["rows"]
@@ -352,6 +405,7 @@ def _finish(b, g, radiance, spec_weight):
 
 
 EEVEE_SHADER_OUTPUT = ("EEVEE Shader", "NodeSocketShader")
+EEVEE_RADIANCE_OUTPUT = ("EEVEE Radiance", "NodeSocketColor")  # LUT mode: what extra suns add in EEVEE
 
 
 def fit_graph(description):

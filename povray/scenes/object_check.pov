@@ -3,7 +3,9 @@
 //   Material (Material.inc on the Library_Path), for checks against libbrdf (tests/povray/).
 // Declares (INI or command line, e.g. Declare=Shape=1):
 //   Shape      0 sphere (default), 1 torus, 2 superellipsoid (rounded box), each tilted
-//   Pass       0 Material_Exact (default), 1 normal pass (Brdf_Normal_Texture), 2 Material_Fit under Brdf_Sun
+//   Pass       0 Material_Exact (default), 1 normal pass (Brdf_Normal_Texture), 2 Material_Fit under Brdf_Sun,
+//              3 a plain metallic finish (Blinn highlight of roughness Plain_Roughness) under Brdf_Sun:
+//              the reference of tools/bench/renderer_cost.py
 //   Frequency  normal pass frequency (1 coarse, 64 fine)
 //   Irradiance the sun's irradiance (default 1)
 #version 3.7;
@@ -13,6 +15,7 @@ global_settings { assumed_gamma 1.0 ambient_light 0 max_trace_level 5 }
 #ifndef(Pass) #declare Pass = 0; #end
 #ifndef(Frequency) #declare Frequency = 1; #end
 #ifndef(Irradiance) #declare Irradiance = 1; #end
+#ifndef(Plain_Roughness) #declare Plain_Roughness = 0.05; #end
 #declare Material_Irradiance = Irradiance;
 
 #include "libbrdf.inc"
@@ -25,6 +28,13 @@ Brdf_Ortho_Camera(Material_View_Direction, <0, 0, 0>, 2.3, 2.3)
   #case (1) #declare Check_Texture = texture { Brdf_Normal_Texture(Frequency) } #break
   #case (2)
     #declare Check_Texture = texture { Material_Fit }
+    Brdf_Sun(Material_Light_Direction, rgb Irradiance)
+  #break
+  #case (3)
+    #declare Check_Texture = texture {
+      pigment { rgb 0.8 }
+      finish { ambient 0 diffuse 0 specular 1 roughness Plain_Roughness metallic 1 }
+    }
     Brdf_Sun(Material_Light_Direction, rgb Irradiance)
   #break
 #end

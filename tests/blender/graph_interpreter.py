@@ -124,13 +124,24 @@ def evaluate(graph, normal, incoming, inputs, images):
         if t == "ShaderNodeCombineXYZ":
             return np.stack([_flt(input_value(node, i), m) for i in range(3)], axis=1)
         if t == "ShaderNodeTexImage":
-            assert node.props["interpolation"] == "Closest" and node.props["extension"] == "EXTEND"
+            assert node.props["interpolation"] in ("Closest", "Linear") and node.props["extension"] == "EXTEND"
             texels = images[node.props["image"]]
             h, w = texels.shape[:2]
             uv = _vec(input_value(node, 0), m)
-            x = np.clip(np.floor(uv[:, 0] * w).astype(int), 0, w - 1)
-            y = np.clip(np.floor(uv[:, 1] * h).astype(int), 0, h - 1)
-            return texels[y, x]
+            if node.props["interpolation"] == "Closest":
+                x = np.clip(np.floor(uv[:, 0] * w).astype(int), 0, w - 1)
+                y = np.clip(np.floor(uv[:, 1] * h).astype(int), 0, h - 1)
+                return texels[y, x]
+            # Linear as Cycles filters on the CPU: texel centres at (i + 0.5)/W, weights in float,
+            # EXTEND repeating the edge texels.
+            x, y = uv[:, 0] * np.float32(w) - np.float32(0.5), uv[:, 1] * np.float32(h) - np.float32(0.5)
+            x0, y0 = np.floor(x), np.floor(y)
+            tx, ty = (x - x0)[:, None], (y - y0)[:, None]
+            xi = [np.clip(x0.astype(int) + d, 0, w - 1) for d in (0, 1)]
+            yi = [np.clip(y0.astype(int) + d, 0, h - 1) for d in (0, 1)]
+            bottom = texels[yi[0], xi[0]] * (1 - tx) + texels[yi[0], xi[1]] * tx
+            top = texels[yi[1], xi[0]] * (1 - tx) + texels[yi[1], xi[1]] * tx
+            return (bottom * (1 - ty) + top * ty).astype(np.float32)
         if t == "ShaderNodeEmission":
             colour = _vec(input_value(node, "Color"), m)
             return {"emission": colour * _flt(input_value(node, "Strength", 1.0), m)[:, None]}

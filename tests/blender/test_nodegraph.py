@@ -82,6 +82,11 @@ def lut_case(directory, request, rng, targets):
         spec_rel = np.abs(out["Specular Weight"][:, rgb] - spec) / np.maximum(spec, 1e-12)
         check(spec_rel.max() <= 5e-3, f"{request.name} channel {rgb}: Specular Weight vs r-spec, max rel "
                                        f"{spec_rel.max():.2e} <= 5e-3")
+    # The group's two evaluations of the same tables: Linear fetches (Cycles) and Closest fetches
+    # interpolated in nodes (EEVEE) agree to float rounding.
+    scale = np.maximum(np.abs(out["Radiance"]), 1e-3 * np.abs(out["Radiance"]).max())
+    both = float((np.abs(out["EEVEE Radiance"] - out["Radiance"]) / scale).max())
+    check(both <= 1e-4, f"{request.name}: Cycles (Linear fetches) and EEVEE (Closest) radiance agree, max rel {both:.1e}")
     rel = np.concatenate(errors)
     stats = (np.median(rel), np.percentile(rel, 95), rel.max())
     check(rel.size >= 300 and all(v <= t for v, t in zip(stats, targets)),
