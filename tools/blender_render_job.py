@@ -3,7 +3,7 @@
     blender -b --factory-startup --python tools/blender_render_job.py -- JOB.json
 
 JOB.json (written by tools/render_blender_comparison.py and tests/blender/test_blender_render.py):
-  {"addon": {"zip": PATH} | {"path": DIR},     # install the add-on zip, or import it from DIR
+  {"addon": {"zip": PATH} | {"extension": PATH} | {"path": DIR},  # legacy zip, 4.2+ extension, or import from DIR
    "results": PATH,                            # JSON written at the end (per render: what was set up)
    "renders": [{
       "output": PATH.exr,                      # multilayer EXR: Combined + requested passes
@@ -41,13 +41,23 @@ ADDON_MODULE = "libbrdf_materials"
 
 
 def install_addon(spec):
-    if "zip" in spec:
+    """Installs the add-on as the job says and returns its module name: a legacy zip
+    (bpy.ops.preferences.addon_install), a Blender 4.2+ extension zip (Install from Disk:
+    bpy.ops.extensions.package_install_files into the user repository), or a folder to import."""
+    module = ADDON_MODULE
+    if "extension" in spec:
+        bpy.ops.extensions.package_install_files(filepath=spec["extension"], repo="user_default",
+                                                 enable_on_install=True)
+        module = f"bl_ext.user_default.{ADDON_MODULE}"
+    elif "zip" in spec:
         bpy.ops.preferences.addon_install(filepath=spec["zip"], overwrite=True)
     else:
         sys.path.insert(0, spec["path"])
-    addon_utils.enable(ADDON_MODULE, default_set=True, handle_error=None)
-    if ADDON_MODULE not in bpy.context.preferences.addons:
-        raise SystemExit(f"{ADDON_MODULE}: add-on did not enable")
+    if module not in bpy.context.preferences.addons:
+        addon_utils.enable(module, default_set=True, handle_error=None)
+    if module not in bpy.context.preferences.addons:
+        raise SystemExit(f"{module}: add-on did not enable")
+    return module
 
 
 def clear_scene():
@@ -204,7 +214,7 @@ def main():
     job_path = sys.argv[sys.argv.index("--") + 1]
     with open(job_path, encoding="utf-8") as f:
         job = json.load(f)
-    install_addon(job["addon"])
+    module = install_addon(job["addon"])
     scene = bpy.context.scene
     clear_scene()
     results = []
@@ -277,7 +287,7 @@ def main():
             "sun_color": list(sun.data.color),
             "materials": materials,
             "blender": bpy.app.version_string,
-            "addon_file": sys.modules[ADDON_MODULE].__file__,
+            "addon_file": sys.modules[module].__file__,
         })
     with open(job["results"], "w", encoding="utf-8") as f:
         json.dump(results, f, indent=2)

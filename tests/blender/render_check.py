@@ -125,12 +125,17 @@ def run_blender_job(tmp, renders, blender, brdf, root, addon_zip, eevee_hint="")
     import checks
     from checks import check
 
-    job = {"addon": {"zip": addon_zip(tmp)}, "results": os.path.join(tmp, "results.json"), "renders": renders}
+    # addon_zip: a function of the job folder returning a legacy zip (package.addon_zip) or a
+    # dict ({"extension": PATH}) for an extension zip.
+    addon = addon_zip(tmp)
+    job = {"addon": addon if isinstance(addon, dict) else {"zip": addon}, "results": os.path.join(tmp, "results.json"),
+           "renders": renders}
     job_path = os.path.join(tmp, "job.json")
     with open(job_path, "w", encoding="utf-8") as f:
         json.dump(job, f, indent=1)
     env = dict(os.environ, LIBBRDF_BRDF_EXE=os.path.abspath(brdf) if os.path.sep in brdf else shutil.which(brdf),
                BLENDER_USER_SCRIPTS=os.path.join(tmp, "user_scripts"), BLENDER_USER_CONFIG=os.path.join(tmp, "user_config"),
+               BLENDER_USER_EXTENSIONS=os.path.join(tmp, "user_extensions"),
                TMPDIR=tmp, XDG_CACHE_HOME=os.path.join(tmp, "cache"))
     done = subprocess.run(blender_command(blender, os.path.join(root, "tools", "blender_render_job.py"), job_path),
                           env=env, capture_output=True, text=True)

@@ -16,7 +16,7 @@ maximum. Why point sampling: an antialiased pixel averages radiance over its foo
 value at the pixel's mean normal is not (tests/blender/README in docs/renderers.md: measured).
 
 Usage: test_blender_random.py --blender debian|4.5|5.0 [--modes LUT,OSL,FIT] [--scenes N] [--seed S]
-                              [--keep DIR]
+                              [--extension [--wheel W.whl]] [--keep DIR]
   Blender 4.5 and 5.0 are bpy from PyPI in a pinned venv (scripts/python_env.sh bpy45 / bpy50);
   exit 77 (skipped) with the reason when that venv cannot be made (no Python 3.11 or no index).
 """
@@ -35,7 +35,7 @@ from blender_test_env import BLENDER_VERSIONS, BRDF, ROOT, blender_program
 import checks  # noqa: E402
 import render_check  # noqa: E402
 from checks import check  # noqa: E402
-from package import addon_zip  # noqa: E402
+from package import addon_zip, extension_zip  # noqa: E402
 
 # (median, p95) of the relative error per render, by mode (issue 33): LUT's table lookups, OSL's
 # same lookups in real OSL (median 0.1%), FIT's fitted native lobes lit by the real sun.
@@ -89,6 +89,9 @@ def main():
     parser.add_argument("--seed", type=int, default=int(os.environ.get("LIBBRDF_TEST_SEED", "20261204")))
     parser.add_argument("--resolution", type=int, default=128)
     parser.add_argument("--keep")
+    parser.add_argument("--extension", action="store_true",
+                        help="install the add-on as a Blender 4.2+ extension zip (Install from Disk) instead of the legacy zip")
+    parser.add_argument("--wheel", action="append", default=[], help="with --extension: a wheel to bundle")
     args = parser.parse_args()
     program = blender_program(args.blender)
     tmp = args.keep or tempfile.mkdtemp(prefix="libbrdf_random_")
@@ -116,7 +119,11 @@ def run(args, program, tmp):
                 "world": [0.0, 0.0, 0.0], "passes": ["normal", "emit"], "keep_objects": False,
                 "objects": [{"shape": "sphere", "rotation_deg": rotation, "material": dict(material, mode=mode)}]})
             scenes.append((index, mode, material))
-    results = render_check.run_blender_job(tmp, renders, program, BRDF, ROOT, addon_zip)
+    package = (lambda folder: {"extension": extension_zip(folder, args.wheel)}) if args.extension else addon_zip
+    results = render_check.run_blender_job(tmp, renders, program, BRDF, ROOT, package)
+    if args.extension:
+        check(all("user_extensions" in r["addon_file"] for r in results),
+              f"installed as an extension into the user repository ({results[0]['addon_file']})")
     print(f"     Blender {results[0]['blender']}, seed {args.seed}, {args.scenes} scenes, modes {args.modes}")
     for render, result, (index, mode, material) in zip(renders, results, scenes):
         passes = render_check.read_passes(render["output"])

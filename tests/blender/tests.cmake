@@ -38,3 +38,10 @@ foreach(version 4.5 5.0)
   set_tests_properties(blender_addon_in_blender_${tag} blender_render_cycles_${tag} blender_render_eevee_${tag}
                        PROPERTIES LABELS blender TIMEOUT 900 SKIP_RETURN_CODE 77)
 endforeach()
+# The add-on as a Blender 4.2+ extension zip, installed with Install from Disk
+# (bpy.ops.extensions.package_install_files) into 4.5 and 5.0, rendering LUT at random scenes.
+foreach(version 4.5 5.0)
+  string(REPLACE "." "_" tag ${version})
+  add_python_test(blender_extension_${tag} blender/test_blender_random.py --blender ${version} --extension --scenes 2)
+  set_tests_properties(blender_extension_${tag} PROPERTIES LABELS blender TIMEOUT 900 SKIP_RETURN_CODE 77)
+endforeach()
