@@ -55,7 +55,7 @@ int run_export_blender(const ExportBlenderOptions& o) {
     throw InvalidArgument("mode", "must be one of lut|osl|fit (got '" + o.mode + "')");
   const fs::path output(o.output);
   if (output.extension() != ".json") throw InvalidArgument("output", "must name a .json file (got '" + libbrdf::message_excerpt(o.output) + "')");
-  require_writable_output(o.output, "output");
+  require_writable_output(o.output, "output", /*create_directory=*/true);  // bl/x.json creates bl/
   if (!o.resolution.empty() && o.target_error)
     throw InvalidArgument("target-error", "give either --resolution or --target-error, not both");
 
