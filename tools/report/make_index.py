@@ -35,15 +35,17 @@ MODEL_FIGURES = [
 ]
 RENDERS = [
     ("povray", "renders/povray_comparison.png",
-     "POV-Ray: mbk, bk, bk-modified and the mapped microfacet model (columns) on gold spheres of the default "
-     "set from polished to rough (rows)."),
+     "POV-Ray (NAME_Exact): mbk, bk, bk-modified and the mapped microfacet model (rows) on gold spheres from "
+     "polished to rough (columns), one sun of irradiance 3, one exposure for every sphere (the Blender figure "
+     "below uses the same exposure, surfaces, sun and layout; tools/comparison_common.py)."),
     ("povray", "renders/povray_difference.png",
-     "POV-Ray: per-pixel difference of bk, bk-modified and microfacet against mbk."),
+     "POV-Ray: |L − L_mbk| / L_mbk per pixel (luminance) of each model, median annotated (where mbk is above 1% "
+     "of its peak) — the metric of the Blender difference below."),
     ("blender", "renders/blender_comparison.png",
-     "Blender (Cycles): mbk, bk, bk-modified and the mapped microfacet model (rows) on gold spheres of the "
-     "default set from polished to rough (columns)."),
+     "Blender (Cycles, LUT mode): the same models, surfaces, sun and exposure as the POV-Ray figure above; a grey "
+     "sky (0.1) adds the specular spike's mirror reflection, which POV-Ray's NAME_Exact does not draw."),
     ("blender", "renders/blender_difference.png",
-     "Blender: per-pixel difference of bk, bk-modified and microfacet against mbk."),
+     "Blender: |L − L_mbk| / L_mbk per pixel (luminance) of each model, median annotated (as for POV-Ray)."),
     ("fitscene", "renders/fit_scene.png",
      "FIT mode in a scene (issue 10): four default materials (au-s0.01, au-s0.15, au-s0.5, bk7-s0.05) on spheres "
      "over a grey ground, a uniform sky and two suns with shadows; Blender Cycles (the add-on's fitted Beckmann "
