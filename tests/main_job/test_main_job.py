@@ -182,7 +182,7 @@ def check_tables():
 def check_index(promised):
     page = open(os.path.join(OUT, "index.html"), encoding="utf-8").read()
     check("missing:" not in page, "index.html shows missing items")
-    links = re.findall(r'(?:src|href)="([^"#:]+)"', page)
+    links = re.findall(r'''(?:src|href)=["']([^"'#:]+)["']''', page)
     for link in links:
         check(os.path.isfile(os.path.join(OUT, link)), f"index.html links {link}, which does not exist")
     for rel in promised:
@@ -194,7 +194,18 @@ def check_index(promised):
     # The first screen is the summary; the stage timings come last; long tables are folded.
     first_section = page.find("<h2")
     check(0 < page.find("class='summary'") < first_section, "index.html: the summary table comes before any section")
-    check(page.find("id='stages'") == page.rfind("<h2"), "index.html: stages and timings are the last section")
+    check(page.find("<h2 id='stages'>") == page.rfind("<h2"), "index.html: stages and timings are the last section")
+    # The summary's cells: every material in both renderers on the first screen; on one exposure the
+    # polished highlights are small, the rough lobes wide and bright.
+    config = brdfcli.load_materials()
+    for s in config["surfaces"]:
+        for renderer in ("povray", "blender"):
+            rel = f"renders/summary/{s['name']}_{renderer}.png"
+            check(f"src='{rel}'" in page and os.path.isfile(os.path.join(OUT, rel)), f"index.html: summary cell {rel}")
+            if s["sigma_over_lambda"] >= 0.5 and os.path.isfile(os.path.join(OUT, rel)):
+                colour = oiio.ImageBuf(os.path.join(OUT, rel)).get_pixels(oiio.FLOAT)[..., :3]
+                check(colour.max() > 0.2 and colour.std() > 0.02, f"{rel}: a rough sphere should be visible "
+                      f"(max {colour.max():.3f}, std {colour.std():.4f})")
     for name in ["bench.csv", "albedo_summary.csv"]:
         at = page.find(f'href="{name}"')
         check(at > 0 and page.rfind("<details>", 0, at) > page.rfind("</details>", 0, at),

@@ -116,7 +116,7 @@ def plot(curves, config, path, samples):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, axes = plt.subplots(1, 2, figsize=(12.8, 4.6), sharey=True)
+    fig, axes = plt.subplots(1, 2, figsize=(12.8, 5.2), sharey=True)
     colours = plt.get_cmap("viridis")(np.linspace(0, 0.9, len(config["surfaces"])))
     for colour, s in zip(colours, config["surfaces"]):
         for layout, style in [("rusinkiewicz", "-o"), ("kernel", "--s")]:
@@ -135,10 +135,11 @@ def plot(curves, config, path, samples):
         ax.set_yscale("log")
         ax.axhline(1e-3, color="gray", lw=0.6, ls=":")
         ax.grid(True, alpha=0.3)
-    axes[0].legend(fontsize=7, ncol=2, loc="lower left")
+    fig.legend(*axes[0].get_legend_handles_labels(), loc="lower center", ncol=len(config["surfaces"]), fontsize=7,
+               frameon=False)
     fig.suptitle(f"Default bakes (mbk, solid: Rusinkiewicz, dashed: kernel layout) against the model at {samples} "
                  "random angle triples (half near specular), values above 1e-3 of the maximum", fontsize=10)
-    fig.tight_layout(rect=(0, 0, 1, 0.95))
+    fig.tight_layout(rect=(0, 0.09, 1, 0.95))
     temporary = path + ".tmp.png"
     fig.savefig(temporary, dpi=100)
     plt.close(fig)

@@ -85,7 +85,6 @@ def promised_files(materials=brdfcli.MATERIALS_FILE):
     files = ["index.html", "timings.csv", "fig2_rd.npz"]
     files += [p for _, p, _ in FIG2 + MODEL_FIGURES + surface_figures(config) + ALBEDO + RENDERS + BENCH + BAKE_ERRORS]
     files += [p for _, p in TABLES.values()]
-    files += [f"renders/summary/{s['name']}_{r}.png" for s in config["surfaces"] for r in ("povray", "blender")]
     files += [f"bakes/{s['name']}.exr" for s in config["surfaces"]]
     return files
 
@@ -271,7 +270,8 @@ def summary_section(page, out, config):
     cells = [f"<td>{percent(bakes[s['name']]['bake_max_relative'])} / {percent(bakes[s['name']]['bake_max_relative_to_horizon'])}"
              f"<br><small>kernel {float(kernel[s['name']]['bake_max_relative']):.1g}</small></td>"
              if s["name"] in bakes and s["name"] in kernel else "<td></td>" for s in surfaces]
-    lines.append("<tr><th class='l'>default bake max error<br><small>θ ≤ 85° / to horizon "
+    shape = next(iter(bakes.values()))["shape"] if bakes else ""
+    lines.append(f"<tr><th class='l'>bake max error<br><small>rusinkiewicz {html.escape(shape)}, θ ≤ 85° / to horizon "
                  "(<a href='#bake-errors'>why</a>)</small></th>" + "".join(cells) + "</tr></table>")
     page.add("".join(lines))
     exposure = rows[0]["exposure"]
@@ -290,7 +290,7 @@ def summary_section(page, out, config):
 def bake_error_section(page, out):
     """Where the default bakes' error comes from, in numbers measured by bake_errors.py."""
     rows = read_dicts(os.path.join(out, "bakes", "bake_errors.csv"))
-    page.add("<h3 id='bake-errors'>Why the default bakes show percent-level errors</h3>")
+    page.add("<h3 id='bake-errors'>Where the bakes' percent-level error comes from</h3>")
     if not rows:
         page.missing("bake", "bakes/bake_errors.csv")
         return
@@ -302,7 +302,7 @@ def bake_error_section(page, out):
     peak = max(max(float(r["max_theta_h_0_0.5"]), float(r["max_theta_h_0.5_2"])) for r in rus)
     mid = max(float(r["max_theta_0_60"]) for r in rus)
     page.add(
-        "<p>The default tables (<code>brdf bake</code>'s Rusinkiewicz layout, "
+        "<p>The tables above (<code>brdf bake</code>'s default Rusinkiewicz layout, "
         f"{html.escape(rus[0]['shape'])} nodes in θh, θd, φd) interpolate the BRDF linearly between nodes. Measured "
         f"(bake_errors.csv, {html.escape(worst['surface'])} worst): max {percent(worst['bake_max_relative'])} for θi, θs ≤ 85°, "
         f"found at θh = {worst['worst_theta_h']}°, θd = {worst['worst_theta_d']}° (θi {worst['worst_theta_i']}°, θs "
