@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The main job: installs what is missing, builds, bakes the default material set, reproduces the
-# paper's Fig. 2, plots every model, measures speed against error, renders the POV-Ray and Blender
-# comparisons and writes a report (index.html) with everything and the time of each stage.
+# paper's Fig. 2, plots every model, measures speed against error, renders every default material in
+# POV-Ray and Blender against brdf eval and the model comparisons, and writes a report (index.html)
+# that opens with a one-screen summary and ends with the time of each stage.
 #
 # Usage: ./run.sh [--small] [--out DIR] [--no-build]
 #   --small     reduced sizes (coarser grids, smaller bakes and renders; what the test runs)
@@ -21,7 +22,7 @@ while (($#)); do
     --out) [[ $# -ge 2 ]] || { echo "run.sh: --out needs a directory" >&2; exit 2; }; out=$2; shift ;;
     --out=*) out=${1#--out=} ;;
     --no-build) build=0 ;;
-    -h|--help) sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;;
     *) echo "run.sh: unknown option '$1' (see ./run.sh --help)" >&2; exit 2 ;;
   esac
   shift
@@ -39,7 +40,7 @@ timings="$out/timings.csv"
 echo "stage,title,status,seconds,log" >"$timings"
 failed=()
 stage_no=0
-stage_total=11
+stage_total=12
 
 seconds_since() { awk -v a="$1" -v b="$EPOCHREALTIME" 'BEGIN { printf "%.1f", b - a }'; }
 human() {  # 75.3 -> 1m15s, 8.25 -> 8.2 s
@@ -125,6 +126,10 @@ stage_bench() {
   need_subcommand bench || return 1
   "$brdf" bench --out "$out" --quick
 }
+stage_summary() {
+  need_script tools/render_summary.py || return 1
+  "$py" "$root/tools/render_summary.py" --brdf "$brdf" --out "$out/renders" "${small_flag[@]}"
+}
 stage_povray() {
   need_script tools/render_povray_comparison.py || return 1
   "$py" "$root/tools/render_povray_comparison.py" --brdf "$brdf" --out "$out/renders" "${small_flag[@]}"
@@ -162,6 +167,7 @@ run_stage fig2 "Reproduce the paper's Fig. 2 (R_d maps)" stage_fig2
 run_stage models "Plot every model in-plane, polar and over the hemisphere" stage_models
 run_stage albedo "Directional albedo (white furnace) of every model, both K modes (brdf albedo)" stage_albedo
 run_stage bench "Speed against error (brdf bench --quick)" stage_bench
+run_stage summary "Every default material in POV-Ray and Blender, one exposure, against brdf eval" stage_summary
 run_stage povray "POV-Ray comparison renders" stage_povray
 run_stage blender "Blender comparison renders" stage_blender
 run_stage fitscene "FIT materials in a scene: sky + two suns, Blender and POV-Ray side by side" stage_fitscene

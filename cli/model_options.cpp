@@ -151,12 +151,14 @@ void add_value_checks(CLI::App& app) {
   for (CLI::App* sub : app.get_subcommands({})) add_value_checks(*sub);
 }
 
-void require_writable_output(const std::string& output, const char* parameter) {
+void require_writable_output(const std::string& output, const char* parameter, bool create_directory) {
   namespace fs = std::filesystem;
   const fs::path path(output);
   std::error_code ec;
   if (fs::is_directory(path, ec)) throw InvalidArgument(parameter, "'" + libbrdf::message_excerpt(output) + "' is a directory, not a file name");
   const fs::path directory = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  if (create_directory && !fs::is_directory(directory, ec) && (fs::create_directories(directory, ec), ec))
+    throw InvalidArgument(parameter, "cannot create directory '" + libbrdf::message_excerpt(directory.string()) + "': " + ec.message());
   if (!fs::is_directory(directory, ec))
     throw InvalidArgument(parameter, "directory '" + libbrdf::message_excerpt(directory.string()) + "' does not exist");
   if (::access(directory.c_str(), W_OK | X_OK) != 0)

@@ -133,6 +133,11 @@ std::vector<Query> read_queries(const std::vector<std::string>& at_values, const
   bool seen_data = false;
   while (reader.next(&line, number + 1)) {
     ++number;
+    // Spreadsheets' "CSV UTF-8" starts the file with a UTF-8 byte-order mark and ends lines with
+    // CRLF. The mark is dropped on line 1 only; anywhere else it is an error naming its line.
+    constexpr std::string_view kUtf8ByteOrderMark = "\xEF\xBB\xBF";
+    if (number == 1 && line.substr(0, kUtf8ByteOrderMark.size()) == kUtf8ByteOrderMark)
+      line.remove_prefix(kUtf8ByteOrderMark.size());
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     const std::size_t first = line.find_first_not_of(" \t");
     if (first == std::string_view::npos || line[first] == '#') continue;

@@ -18,6 +18,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cmath>
@@ -189,12 +190,82 @@ struct PyModel {
   std::string name;
   double wavelength;
   libbrdf::Model model;
+  std::string material;  // the built-in material's name, or "" when given as n, k
 };
 
 PyModel make_model(const std::string& name, double wavelength, const SurfaceKeywords& kw) {
   const brdf_cli::ModelOptions o = kw.options(name, {wavelength});
   const std::vector<double> wavelengths = brdf_cli::channel_wavelengths(o, {0.55});
-  return PyModel{name, wavelengths[0], libbrdf::Model(brdf_cli::parse_model_kind(o), brdf_cli::model_parameters(o, wavelengths[0]))};
+  return PyModel{name, wavelengths[0], libbrdf::Model(brdf_cli::parse_model_kind(o), brdf_cli::model_parameters(o, wavelengths[0])),
+                 kw.material.value_or("")};
+}
+
+// repr(Model): the constructor call that makes it again -- material (name, else n and k), roughness
+// (sigma_s, lc, and the microfacet parameters when set), wavelength; Python's shortest float text.
+std::string model_repr(const PyModel& m) {
+  const libbrdf::ModelParameters& p = m.model.parameters();
+  const auto number = [](double value) { return py::repr(py::float_(value)).cast<std::string>(); };
+  std::string text = "libbrdf.Model(" + py::repr(py::str(m.name)).cast<std::string>();
+  if (!m.material.empty()) text += ", material=" + py::repr(py::str(m.material)).cast<std::string>();
+  else if (p.index) text += ", n=" + number(p.index->n) + ", k=" + number(p.index->kappa);
+  if (p.sigma_s_um) text += ", sigma_s=" + number(*p.sigma_s_um);
+  if (p.lc_um) text += ", lc=" + number(*p.lc_um);
+  if (p.sigma_g) text += ", sigma_g=" + number(*p.sigma_g);
+  if (p.rho_s) text += ", rho_s=" + number(*p.rho_s);
+  if (p.rho_d != 0.0) text += ", rho_d=" + number(p.rho_d);
+  return text + ", wavelength=" + number(m.wavelength) + ")";
+}
+
+// The keyword names in a pybind11 function's signature line ("f(self: T, name: str, *, sigma_s:
+// Optional[float] = None, ...) -> R", the first line of its __doc__): the text before ':' of each
+// top-level item, "self" and the "*" marker left out.
+std::vector<std::string> signature_keywords(const py::handle& function) {
+  const std::string doc = py::str(function.attr("__doc__"));
+  const std::size_t open = doc.find('(');
+  std::vector<std::string> names;
+  int depth = 0;
+  std::string item;
+  const auto take = [&] {
+    const std::size_t colon = item.find(':');
+    std::string name = item.substr(item.find_first_not_of(' '), colon == std::string::npos ? std::string::npos : colon - item.find_first_not_of(' '));
+    if (colon != std::string::npos && name != "self") names.push_back(name);
+    item.clear();
+  };
+  for (std::size_t i = open + 1; open != std::string::npos && i < doc.size() && doc[i] != '\n'; ++i) {
+    const char c = doc[i];
+    if (depth == 0 && c == ')') break;
+    if (c == '(' || c == '[' || c == '{') ++depth;
+    if (c == ')' || c == ']' || c == '}') --depth;
+    if (depth == 0 && c == ',') take();
+    else item += c;
+  }
+  take();
+  return names;
+}
+
+// pybind11 answers a mistyped keyword with every overload's signature over several lines and does
+// not name the keyword. Replaces scope.attribute by a function that first checks the keywords: an
+// unknown one is a one-line TypeError naming it, a close match and the accepted names.
+void check_keywords_first(py::object scope, const char* attribute, const std::string& shown_name, bool is_method) {
+  py::object original = scope.attr(attribute);
+  const std::vector<std::string> accepted = signature_keywords(original);
+  std::string listed;
+  for (const std::string& name : accepted) listed += (listed.empty() ? "" : ", ") + name;
+  auto checked = [original, accepted, listed, shown_name](py::args args, py::kwargs kwargs) {
+    for (const auto& item : kwargs) {
+      const std::string keyword = py::str(item.first);
+      if (std::find(accepted.begin(), accepted.end(), keyword) != accepted.end()) continue;
+      const py::list close = py::module_::import("difflib").attr("get_close_matches")(keyword, py::cast(accepted), 1);
+      const std::string hint = close.empty() ? "" : " (did you mean '" + close[0].cast<std::string>() + "'?)";
+      throw py::type_error(shown_name + "() got an unexpected keyword argument '" + keyword + "'" + hint + "; accepted: " + listed);
+    }
+    return original(*args, **kwargs);
+  };
+  const std::string doc = py::str(original.attr("__doc__"));
+  if (is_method)
+    scope.attr(attribute) = py::cpp_function(checked, py::name(attribute), py::is_method(scope), py::doc(doc.c_str()));
+  else
+    scope.attr(attribute) = py::cpp_function(checked, py::name(attribute), py::scope(scope), py::doc(doc.c_str()));
 }
 
 py::object evaluate_directions(const PyModel& m, py::handle to_light, py::handle to_view) {
@@ -423,9 +494,7 @@ Out-of-domain values raise libbrdf.InvalidArgument (a ValueError) naming the par
       .def_property_readonly("sigma_g", [](const PyModel& self) { return self.model.sigma_g(); },
                              "The microfacet slope parameter in use (given or mapped by eqs 20/25; 0 if none).")
       .def_property_readonly("parameters", &parameters_dict)
-      .def("__repr__", [](const PyModel& self) {
-        return "libbrdf.Model('" + self.name + "', wavelength=" + py::str(py::float_(self.wavelength)).cast<std::string>() + ")";
-      });
+      .def("__repr__", &model_repr);
 
   py::class_<libbrdf::Lut>(m, "Lut", "A baked table (libbrdf.bake or Lut.open): lookups on arrays, its measured error, its values.")
       .def_static("open", [](const std::string& path) {
@@ -511,4 +580,7 @@ default (0.65, 0.55, 0.45)). layout: rusinkiewicz | merl | slice (light=, view= 
 resolution: nodes per axis, or target_error: the smallest table whose measured max relative error
 meets it. Returns a Lut; lut.error holds the measured error. Ctrl-C cancels.
 )doc");
+
+  check_keywords_first(m.attr("Model"), "__init__", "Model", /*is_method=*/true);
+  check_keywords_first(m, "bake", "bake", /*is_method=*/false);
 }

@@ -93,9 +93,16 @@ def main():
     if not rows:
         sys.exit("plot_bench: no rows in " + sys.argv[1])
     surfaces = list(dict.fromkeys(r["surface"] for r in rows))
-    fig, axes = plt.subplots(1, len(surfaces), figsize=(6.4 * len(surfaces), 7.0), sharey=True, squeeze=False)
+    # Two panels a row, 100 dpi: the figure is ~1300 px wide, read at the report's page width (four
+    # panels in one row were 3300 px, shown at ~37%).
+    columns = min(2, len(surfaces))
+    grid_rows = (len(surfaces) + columns - 1) // columns
+    fig, axes = plt.subplots(grid_rows, columns, figsize=(6.6 * columns, 5.8 * grid_rows + 0.8), sharey=True,
+                             squeeze=False)
+    for ax in axes.ravel()[len(surfaces):]:
+        ax.set_visible(False)
     labels = []
-    for ax, surface in zip(axes[0], surfaces):
+    for ax, surface in zip(axes.ravel(), surfaces):
         exact = []
         for row in (r for r in rows if r["surface"] == surface):
             x = float(row["speed_ratio"])
@@ -127,17 +134,18 @@ def main():
         ax.set_xlabel("speed relative to the reference series (same run)")
         ax.set_title(f"{surface} Au, \u03bb = 0.55 \u00b5m")
         ax.grid(True, which="major", alpha=0.3)
-    axes[0][0].set_ylabel("relative error vs reference (filled: max, hollow: rms)")
+    for row_axes in axes:
+        row_axes[0].set_ylabel("relative error vs reference (filled: max, hollow: rms)")
     handles = [plt.Line2D([], [], color=c, marker="o", ls="", label=k.replace("_", " ")) for k, c in COLORS.items()]
     handles += [plt.Line2D([], [], color=COLORS["lut"], marker=m, ls="", label=f"table: {k}") for k, m in LUT_MARKERS.items()]
-    fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=8, frameon=False)
+    fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=9, frameon=False)
     tables = sorted({r["shape"] for r in rows if r["kind"] == "lut" and r["model"] != "mbk" and r["layout"] != "kernel"})
     fig.suptitle("brdf bench: speed against error (dashed: 1e-2 and 1e-3). \"<model> table\": rusinkiewicz "
                  + ", ".join(tables) + " of that model's default evaluation", fontsize=10)
-    fig.tight_layout(rect=(0, 0.05, 1, 0.96))
+    fig.tight_layout(rect=(0, 0.03, 1, 0.97))
     place_labels(fig, labels)  # after the layout: the boxes are measured where they will be drawn
     tmp = sys.argv[2] + ".tmp.png"
-    fig.savefig(tmp, dpi=130)
+    fig.savefig(tmp, dpi=100)
     os.replace(tmp, sys.argv[2])
 
 

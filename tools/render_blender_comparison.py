@@ -10,7 +10,8 @@ table (LUT mode: the BRDF lit by one sun, emitted, plus the specular spike as a 
 reflects a uniform grey sky): rows MBK, original BK, modified BK and the mapped microfacet model;
 columns sigma_s/lambda from 0.002 to 0.5 (lambda = 0.55 um, the green channel).
 Writes
-  DIR/blender_comparison.png   the renders, one global exposure, x/(1+x) tone curve, sRGB
+  DIR/blender_comparison.png   the renders, one exposure (the POV-Ray comparison's when DIR holds
+                               povray_comparison.json), x/(1+x) tone curve, sRGB (comparison_common.py)
   DIR/blender_difference.png   |L - L_mbk| / L_mbk per pixel (luminance), log colour scale
   DIR/blender_comparison.json  per cell: median and 90th-percentile relative difference to MBK
   DIR/blender_comparison.exr   the raw render (multilayer EXR)
@@ -33,16 +34,17 @@ sys.path.insert(0, os.path.join(ROOT, "blender_addon"))
 from package import addon_zip  # noqa: E402
 from libbrdf_materials.core import KERNEL_MODELS  # noqa: E402
 
-ROWS = (("mbk", "MBK (eq. 11, K)"), ("bk", "BK original (eq. 26)"), ("bk-modified", "BK modified (eq. 28)"),
-        ("microfacet", "microfacet, mapped (eqs 20/25)"))
-LAMBDA_UM = 0.55
-SIGMA_OVER_LAMBDA = (0.002, 0.01, 0.05, 0.15, 0.5)
-SIGMA_OVER_LAMBDA_SMALL = (0.002, 0.05, 0.5)
+sys.path.insert(0, os.path.join(ROOT, "tools"))
+import comparison_common as cc  # noqa: E402  (surfaces, sun, exposure and metric shared with POV-Ray)
+
+ROWS = cc.ROWS
+LAMBDA_UM = cc.LAMBDA_UM
 SPACING = 2.2          # scene units between sphere centres (radius 1)
 # A uniform grey sky, seen through the specular spike's mirror lobe (LUT mode lights the BRDF
 # itself by the sun alone), and a sun of angle 0 (no glint sampling noise).
 WORLD = (0.1, 0.1, 0.1)
-SUN = {"direction": [0.45, -1.0, 0.55], "strength": 3.0, "color": [1.0, 1.0, 1.0], "angle_deg": 0.0}
+SUN = {"direction": list(cc.BLENDER_SUN_DIRECTION), "strength": cc.SUN_IRRADIANCE, "color": [1.0, 1.0, 1.0],
+       "angle_deg": 0.0}
 
 
 def build_job(args, work, columns, cell):
@@ -83,69 +85,19 @@ def sphere_mask(cell):
     return (x - cell / 2) ** 2 + (y - cell / 2) ** 2 < (0.97 * radius) ** 2
 
 
-def srgb(x):
-    x = np.clip(x, 0.0, 1.0)
-    return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
-
-
 def figures(image, columns, cell, out, args):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from matplotlib.colors import LogNorm
-
     grid = cells(image, len(ROWS), len(columns), cell)
-    mask = sphere_mask(cell)
-    luminance = image @ np.array([0.2126, 0.7152, 0.0722])
-    exposure = 1.0 / np.percentile(luminance[luminance > 0], 99.0)
+    shared = cc.shared_exposure(out)
+    exposure = shared if shared else cc.exposure_of(image)
     title = (f"{args.material}, l_c = {args.lc:g} um, sun {SUN['strength']:g} W/m^2, grey sky {WORLD[0]:g}; "
-             f"RGB = 0.65/0.55/0.45 um; exposure x{exposure:.3g}, x/(1+x)")
-
-    def label_axes(fig, axes):
-        for c, ratio in enumerate(columns):
-            axes[0][c].set_title(f"sigma_s/lambda = {ratio:g}\n(sigma_s = {ratio * LAMBDA_UM:.4g} um)", fontsize=9)
-        for r, (_, name) in enumerate(ROWS):
-            axes[r][0].set_ylabel(name, fontsize=9)
-        for a in np.ravel(axes):
-            a.set_xticks([])
-            a.set_yticks([])
-
-    fig, axes = plt.subplots(len(ROWS), len(columns), figsize=(2.2 * len(columns) + 1.2, 2.2 * len(ROWS) + 0.8),
-                             squeeze=False)
-    for r in range(len(ROWS)):
-        for c in range(len(columns)):
-            x = grid[r][c] * exposure
-            axes[r][c].imshow(srgb(x / (1.0 + x)))
-    label_axes(fig, axes)
-    fig.suptitle("libbrdf in Blender (Cycles, LUT mode)\n" + title, fontsize=9)
-    fig.tight_layout()
-    fig.savefig(os.path.join(out, "blender_comparison.png"), dpi=110)
-    plt.close(fig)
-
-    summary = {"exposure": exposure, "columns_sigma_over_lambda": list(columns), "cells": []}
-    fig, axes = plt.subplots(len(ROWS), len(columns), figsize=(2.2 * len(columns) + 2.0, 2.2 * len(ROWS) + 0.8),
-                             squeeze=False)
-    norm = LogNorm(vmin=1e-3, vmax=10.0)
-    shown = None
-    for r, (model, name) in enumerate(ROWS):
-        for c in range(len(columns)):
-            ref = grid[0][c] @ np.array([0.2126, 0.7152, 0.0722])
-            cur = grid[r][c] @ np.array([0.2126, 0.7152, 0.0722])
-            floor = 1e-3 * ref[mask].max()
-            rel = np.abs(cur - ref) / np.maximum(ref, floor)
-            rel = np.where(mask, np.maximum(rel, 1e-4), np.nan)
-            shown = axes[r][c].imshow(rel, norm=norm, cmap="magma")
-            above = mask & (ref > 1e-2 * ref[mask].max())
-            median, p90 = float(np.median(rel[above])), float(np.percentile(rel[above], 90))
-            if r > 0:
-                axes[r][c].text(0.03, 0.03, f"median {median:.2f}", transform=axes[r][c].transAxes, color="w", fontsize=7)
-            summary["cells"].append({"model": model, "sigma_over_lambda": columns[c], "median_relative": median,
-                                     "p90_relative": p90})
-    label_axes(fig, axes)
-    fig.colorbar(shown, ax=axes, fraction=0.03, label="|L - L_mbk| / L_mbk  (luminance)")
-    fig.suptitle("Difference to MBK per pixel (first row: MBK itself)", fontsize=9)
-    fig.savefig(os.path.join(out, "blender_difference.png"), dpi=110)
-    plt.close(fig)
+             f"RGB = 0.65/0.55/0.45 um; exposure x{exposure:.3g}"
+             f"{' (the POV-Ray comparison' + chr(39) + 's)' if shared else ''}, x/(1+x)")
+    cc.comparison_figure(grid, columns, exposure, "libbrdf in Blender (Cycles, LUT mode)\n" + title,
+                         os.path.join(out, "blender_comparison.png"))
+    summary = {"exposure": exposure, "columns_sigma_over_lambda": list(columns),
+               "cells": cc.difference_figure(grid, columns, sphere_mask(cell),
+                                             "Difference to MBK per pixel (first row: MBK itself)",
+                                             os.path.join(out, "blender_difference.png"))}
     with open(os.path.join(out, "blender_comparison.json"), "w", encoding="utf-8") as f:
         json.dump(summary, f, indent=1)
     return summary
@@ -157,10 +109,10 @@ def main():
     parser.add_argument("--out", required=True, help="output folder")
     parser.add_argument("--small", action="store_true", help="3 roughness columns, small cells, coarser tables")
     parser.add_argument("--blender", default=shutil.which("blender") or "blender")
-    parser.add_argument("--material", default="Au", help="built-in material (default Au)")
-    parser.add_argument("--lc", type=float, default=2.0, help="correlation length l_c in um (default 2)")
+    parser.add_argument("--material", default=cc.MATERIAL, help=f"built-in material (default {cc.MATERIAL})")
+    parser.add_argument("--lc", type=float, default=cc.LC_UM, help=f"correlation length l_c in um (default {cc.LC_UM:g})")
     args = parser.parse_args()
-    columns = SIGMA_OVER_LAMBDA_SMALL if args.small else SIGMA_OVER_LAMBDA
+    columns = cc.columns(args.small)
     cell = 96 if args.small else 160
     args.resolution = (96, 48, 32) if args.small else (128, 64, 48)
     args.samples = 4 if args.small else 16  # antialiasing (1.5-pixel filter); LUT shading is noise-free

@@ -1,17 +1,20 @@
 #!/usr/bin/python3
 """POV-Ray comparison renders (issue #4): mbk, bk, bk-modified and the mapped microfacet model
-(columns) for a polished, an intermediate and a rough surface (rows), one sphere each, rendered by
-POV-Ray 3.7 with the NAME_Exact textures of `brdf export povray` (exact radiance for one sun and an
-orthographic camera, as emission), and the difference of each model against mbk.
+(rows) on gold spheres from polished to rough (columns), rendered by POV-Ray 3.7 with the NAME_Exact
+textures of `brdf export povray` (exact radiance for one sun and an orthographic camera, as
+emission), and the difference of each model against mbk -- the same surfaces, layout, sun, exposure
+and difference metric as the Blender comparison (tools/comparison_common.py).
 
 Usage: render_povray_comparison.py --brdf BRDF_EXE --out DIR [--small] [--material Au]
 
-Writes DIR/povray_comparison.png (log-scaled per sphere, peak radiances annotated) and .exr (radiance
-per unit irradiance, 1/sr, linear), DIR/povray_difference.png (log10 of model / mbk per pixel) and
-.exr (|model - mbk|), and keeps the includes and the scene inputs in DIR/povray/.
-Surfaces: tools/report/materials.json (sigma_s/lambda = 0.002, 0.05, 0.5 at 0.55 um, l_c = 2 um).
+Writes DIR/povray_comparison.png (one exposure for every sphere, x/(1+x), sRGB) and .exr (radiance
+per unit irradiance, 1/sr, linear), DIR/povray_difference.png (|L - L_mbk| / L_mbk per pixel) and
+.exr (|model - mbk|), DIR/povray_comparison.json (the exposure, which the Blender comparison reuses,
+and per cell the median and 90th percentile of that difference), and keeps the includes and the
+scene inputs in DIR/povray/.
 """
 import argparse
+import json
 import re
 import sys
 import time
@@ -23,32 +26,23 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import povray_common as pc  # noqa: E402
 from povray_common import brdfcli  # noqa: E402
+import comparison_common as cc  # noqa: E402
 
-import matplotlib  # noqa: E402
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib.colors import SymLogNorm  # noqa: E402
-
-MODELS = ["mbk", "bk", "bk-modified", "microfacet"]
-SURFACES = [("polished", "au-s0.002"), ("intermediate", "au-s0.05"), ("rough", "au-s0.5")]
-LIGHT = (-1.0, 1.0, -1.5)   # POV-Ray world, from the surface towards the sun (upper left, in front)
-VIEW = (0.0, 0.0, -1.0)     # towards the camera
-DECADES = 4.0               # dynamic range of the log display, per sphere
-FLOOR = 1e-4                # ratios only where mbk is above this x its maximum (half floats stay exact)
+MODELS = cc.MODELS
+LIGHT = cc.POVRAY_SUN_DIRECTION  # POV-Ray world, from the surface towards the sun (upper right, in front)
+VIEW = (0.0, 0.0, -1.0)          # towards the camera
+SPACING = 2.2  # centre distance (radius 1), as the Blender comparison's
 
 
 def identifier(row, model):
     return f"Cmp_{row}_{model.replace('-', '_')}"
 
 
-def surfaces(material):
-    by_name = {s["name"]: s for s in brdfcli.load_materials()["surfaces"]}
-    out = []
-    for label, name in SURFACES:
-        s = by_name[name]
-        out.append(dict(label=label, sigma_over_lambda=s["sigma_over_lambda"],
-                        params=dict(material=material or s["material"], sigma_s=s["sigma_s_um"], lc=s["lc_um"])))
-    return out
+def surfaces(material, small=False):
+    """The comparison's columns: gold (or `material`) at each sigma_s/lambda of comparison_common."""
+    return [dict(label=f"sigma_s/lambda {ratio:g}", sigma_over_lambda=ratio,
+                 params=dict(material=material or cc.MATERIAL, sigma_s=ratio * cc.LAMBDA_UM, lc=cc.LC_UM))
+            for ratio in cc.columns(small)]
 
 
 def peak_radiance(include):
@@ -81,8 +75,9 @@ def export_all(brdf, rows, directory, resolution):
         irradiance[r, MODELS.index(model)] = 2.0 ** -np.round(np.log2(peak)) if peak > 0 else 1.0
         lines += [f"#declare {identifier(r, model)}_Irradiance = {irradiance[r, MODELS.index(model)]:.17g};",
                   f'#include "{identifier(r, model)}.inc"']
-    table = ",\n  ".join("{" + ", ".join(f"{identifier(r, m)}_Exact" for m in MODELS) + "}" for r in range(len(rows)))
-    lines += [f"#declare Comparison_Exact = array[{len(rows)}][{len(MODELS)}] {{\n  {table}\n}};",
+    # Rows: models, columns: surfaces (as the Blender comparison).
+    table = ",\n  ".join("{" + ", ".join(f"{identifier(r, m)}_Exact" for r in range(len(rows))) + "}" for m in MODELS)
+    lines += [f"#declare Comparison_Exact = array[{len(MODELS)}][{len(rows)}] {{\n  {table}\n}};",
               f"#declare Comparison_View_Direction = {identifier(0, MODELS[0])}_View_Direction;", ""]
     (directory / "comparison_materials.inc").write_text("\n".join(lines))
     return irradiance
@@ -91,60 +86,6 @@ def export_all(brdf, rows, directory, resolution):
 def cells(image, rows, columns):
     h, w = image.shape[0] // rows, image.shape[1] // columns
     return [[image[r * h:(r + 1) * h, c * w:(c + 1) * w] for c in range(columns)] for r in range(rows)]
-
-
-def luminance(rgb):
-    return rgb @ np.array([0.2126, 0.7152, 0.0722])
-
-
-def log_display(image, rows, columns):
-    """Per sphere: luminance mapped to 1 + log10(Y / Y_max) / DECADES (the shapes of lobes whose
-    peaks differ by orders of magnitude side by side; the peaks are annotated), hue kept."""
-    out = np.zeros(image.shape[:2] + (3,))
-    h, w = image.shape[0] // rows, image.shape[1] // columns
-    for r in range(rows):
-        for c in range(columns):
-            block = image[r * h:(r + 1) * h, c * w:(c + 1) * w, :3]
-            y = luminance(block)
-            y_max = max(y.max(), 1e-300)
-            shown = np.clip(1.0 + np.log10(np.maximum(y, 1e-300) / y_max) / DECADES, 0.0, 1.0)
-            chroma = block / np.maximum(y, 1e-300)[..., None]
-            chroma = chroma / np.maximum(chroma.max(axis=-1, keepdims=True), 1.0)
-            out[r * h:(r + 1) * h, c * w:(c + 1) * w] = np.where(y[..., None] > 0, chroma * shown[..., None], 0.0)
-    return out
-
-
-def labelled_figure(path, picture, rows, row_labels, column_labels, notes, title, norm=None, cmap=None):
-    """The picture at 1:1 scale with column titles, row labels, per-cell notes, a caption and, for
-    a colour-mapped picture (norm given), a colour bar labelled in ratios."""
-    height, width = picture.shape[:2]
-    left, right, top, bottom = 1.7, (1.3 if norm else 0.2), 0.35, 0.45  # inches
-    fig_w, fig_h = width / 100 + left + right, height / 100 + top + bottom
-    background, ink = ("white", "black") if norm else ("black", "white")
-    fig = plt.figure(figsize=(fig_w, fig_h), dpi=100, facecolor=background)
-    ax = fig.add_axes([left / fig_w, bottom / fig_h, width / 100 / fig_w, height / 100 / fig_h])
-    shown = ax.imshow(picture, norm=norm, cmap=cmap, interpolation="nearest")
-    ax.set_xticks([(c + 0.5) * width / len(column_labels) for c in range(len(column_labels))], column_labels)
-    ax.xaxis.tick_top()
-    ax.set_yticks([(r + 0.5) * height / rows for r in range(rows)], row_labels)
-    ax.tick_params(length=0, labelcolor=ink, labelsize=8)
-    for spine in ax.spines.values():
-        spine.set_visible(False)
-    for (r, c), text in notes.items():
-        ax.text((c + 0.5) * width / len(column_labels), (r + 0.97) * height / rows, text, color="w",
-                ha="center", va="bottom", fontsize=7)
-    fig.text(0.01, 0.01, title, fontsize=7, va="bottom", color=ink, wrap=True)
-    if norm:
-        bar_ax = fig.add_axes([(left + width / 100 + 0.15) / fig_w, bottom / fig_h, 0.18 / fig_w, height / 100 / fig_h])
-        bar = fig.colorbar(shown, cax=bar_ax)
-        ticks = [-3, -1, -0.1, -0.01, 0, 0.01, 0.1, 1, 3]
-        bar.set_ticks(ticks, labels=[f"x{10 ** t:.3g}" for t in ticks])
-        bar.ax.tick_params(labelsize=7)
-        bar.set_label("model / mbk", fontsize=8)
-    temporary = path.with_name(f".{path.name}.tmp.png")
-    fig.savefig(temporary, facecolor=background)
-    plt.close(fig)
-    temporary.replace(path)
 
 
 def main():
@@ -157,63 +98,50 @@ def main():
     start = time.time()
     work = args.out / "povray"
     work.mkdir(parents=True, exist_ok=True)
-    rows = surfaces(args.material)
+    rows = surfaces(args.material, args.small)
     irradiance = export_all(args.brdf, rows, work, 128 if args.small else None)
 
-    cell = 110 if args.small else 220
-    width, height = cell * len(MODELS), cell * len(rows)
+    cell = 96 if args.small else 160
+    width, height = cell * len(rows), cell * len(MODELS)
     brdfcli.progress(f"rendering {width}x{height} with POV-Ray")
     image = pc.run_povray(pc.POVRAY_DIR / "scenes" / "comparison.pov", work / "comparison_render.exr", width, height,
-                          [work])
+                          [work], dict(Spacing=SPACING))
     if not np.all(np.isfinite(image)):
         sys.exit("render_povray_comparison: POV-Ray image has non-finite pixels")
     radiance = image[..., :3].copy()
-    h, w = height // len(rows), width // len(MODELS)
-    for r in range(len(rows)):
-        for c in range(len(MODELS)):
-            radiance[r * h:(r + 1) * h, c * w:(c + 1) * w] /= irradiance[r, c]
+    for m in range(len(MODELS)):
+        for c in range(len(rows)):
+            radiance[m * cell:(m + 1) * cell, c * cell:(c + 1) * cell] /= irradiance[c, m]
     pc.write_exr(args.out / "povray_comparison.exr", radiance)
 
-    grid = cells(radiance, len(rows), len(MODELS))
-    row_labels = [f"{s['label']}\nsigma_s/lambda = {s['sigma_over_lambda']:g}\nl_c = {s['params']['lc']:g} um"
-                  for s in rows]
-    notes = {(r, c): f"peak {grid[r][c][..., 1].max():.3g}/sr" for r in range(len(rows)) for c in range(len(MODELS))}
+    grid = cells(radiance * cc.SUN_IRRADIANCE, len(MODELS), len(rows))
+    exposure = cc.exposure_of(radiance * cc.SUN_IRRADIANCE)
+    columns = [s["sigma_over_lambda"] for s in rows]
     material = rows[0]["params"]["material"]
-    labelled_figure(args.out / "povray_comparison.png", pc.to_srgb(log_display(radiance, len(rows), len(MODELS))),
-                    len(rows), row_labels, MODELS, notes,
-                    f"POV-Ray 3.7, NAME_Exact (emission), {material}, RGB = 0.65/0.55/0.45 um. Radiance per unit "
-                    f"irradiance, log scale over {DECADES:g} decades below each sphere's peak (annotated, G channel); "
-                    f"sun {LIGHT}, view {VIEW}")
+    cc.comparison_figure(grid, columns, exposure,
+                         f"libbrdf in POV-Ray 3.7 (NAME_Exact, emission)\n{material}, l_c = {cc.LC_UM:g} um, sun "
+                         f"{cc.SUN_IRRADIANCE:g} W/m^2, no sky; RGB = 0.65/0.55/0.45 um; exposure x{exposure:.3g}, x/(1+x)",
+                         args.out / "povray_comparison.png")
 
     # Differences against mbk (same geometry in every cell, so pixels correspond).
     difference = np.zeros_like(radiance)
-    ratio = np.full(radiance.shape[:2], np.nan)
-    summary = []
-    for r in range(len(rows)):
-        reference = luminance(grid[r][0])
-        valid = reference > FLOOR * reference.max()  # its own peak was scaled near 1: far from half's limit
-        for c in range(len(MODELS)):
-            difference[r * h:(r + 1) * h, c * w:(c + 1) * w] = np.abs(grid[r][c] - grid[r][0])
-            y = luminance(grid[r][c])
-            log_ratio = np.log10(np.maximum(y, 1e-300) / np.where(valid, reference, 1.0))
-            ratio[r * h:(r + 1) * h, c * w:(c + 1) * w] = np.where(valid, np.clip(log_ratio, -3, 3), np.nan)
-            summary.append((rows[r]["label"], MODELS[c], np.median(log_ratio[valid])))
+    for m in range(len(MODELS)):
+        for c in range(len(rows)):
+            difference[m * cell:(m + 1) * cell, c * cell:(c + 1) * cell] = np.abs(grid[m][c] - grid[0][c]) / cc.SUN_IRRADIANCE
     pc.write_exr(args.out / "povray_difference.exr", difference)
-    notes = {(r, c): f"median {10 ** summary[r * len(MODELS) + c][2]:.3g}x" for r in range(len(rows))
-             for c in range(1, len(MODELS))}
-    cmap = plt.get_cmap("RdBu_r").copy()
-    cmap.set_bad("0.15")
-    labelled_figure(args.out / "povray_difference.png", ratio, len(rows), row_labels, MODELS, notes,
-                    f"Luminance of each model / mbk per pixel (symmetric log colour scale, linear within x1.01), "
-                    f"where mbk > {FLOOR:g} x its peak (grey: below); median ratio annotated. The mbk column is 1 "
-                    f"by construction.", norm=SymLogNorm(linthresh=0.004, linscale=0.5, vmin=-3, vmax=3, base=10),
-                    cmap=cmap)
-    for label, model, median in summary:
-        if model != "mbk":
-            print(f"{label:12s} {model:12s} median model/mbk = {10 ** median:.3g}")
+    j, i = np.mgrid[0:cell, 0:cell] + 0.5
+    mask = (i - cell / 2) ** 2 + (j - cell / 2) ** 2 < (0.97 * cell / SPACING) ** 2
+    summary = {"exposure": exposure, "columns_sigma_over_lambda": columns,
+               "cells": cc.difference_figure(grid, columns, mask, "Difference to MBK per pixel (first row: MBK itself)",
+                                             args.out / "povray_difference.png")}
+    with open(args.out / "povray_comparison.json", "w", encoding="utf-8") as f:
+        json.dump(summary, f, indent=1)
+    for cell_summary in summary["cells"]:
+        if cell_summary["model"] != "mbk":
+            print(f"{cell_summary['model']:>12} sigma_s/lambda {cell_summary['sigma_over_lambda']:<6g} "
+                  f"median |L - L_mbk|/L_mbk {cell_summary['median_relative']:.3f}  p90 {cell_summary['p90_relative']:.3f}")
     print(f"wrote {args.out / 'povray_comparison.png'} and {args.out / 'povray_difference.png'} "
           f"({time.time() - start:.1f} s)")
-
 
 if __name__ == "__main__":
     main()

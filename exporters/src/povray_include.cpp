@@ -1,5 +1,6 @@
 // Writing NAME.inc: POV-Ray include idioms as in POV-Ray's own metals.inc (a version guard against
 // double inclusion, a File/Description header, a Source line per data block, prefixed names).
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -134,14 +135,20 @@ std::string include_text(const std::string& name, ModelKind model, const std::ve
     out << "//   " << energy.advice << "\n";
     out << "#declare " << N << "_Albedo_Max = " << energy.max_albedo << ";\n";
   }
+  // The usage lines are a complete scene (tests/povray/test_include_usage.py renders them verbatim).
+  // The camera sits on the view side (+View_Direction, which points from the surface towards it);
+  // a vertical view needs another sky than POV-Ray's default y; look_at comes last, as POV-Ray asks.
+  const std::string sky = std::abs(g.view[1]) > 0.999 ? " sky z" : "";
   out << "//\n"
-      << "// Usage:\n"
+      << "// Usage (a complete scene: uncomment the lines below):\n"
       << "//   #declare " << N << "_Irradiance = 1;  // optional, before the include (float or rgb)\n"
       << "//   #include \"" << N << ".inc\"\n"
-      << "//   camera { orthographic location -100*" << N << "_View_Direction look_at 0 ... }\n"
+      << "//   camera { orthographic location 100*" << N << "_View_Direction right 2.4*x*image_width/image_height up 2.4*y"
+      << sky << " look_at 0 }\n"
       << "//   sphere { 0, 1 texture { " << N << "_Exact } }\n"
-      << "//   // or: light_source { 1e6*" << N << "_Light_Direction rgb 1 parallel point_at 0 }\n"
-      << "//   //     sphere { 0, 1 texture { " << N << "_Fit } }   (any lights, shadows, reflections)\n"
+      << "// Or, for " << N << "_Fit (any lights, shadows, reflections), replace the sphere line by:\n"
+      << "//   light_source { 1e6*" << N << "_Light_Direction rgb " << N << "_Irradiance parallel point_at 0 }\n"
+      << "//   sphere { 0, 1 texture { " << N << "_Fit } }\n"
       << "//\n"
       << "// Directions are POV-Ray world vectors (left-handed, y up) from the surface towards the light\n"
       << "// and towards the camera; theta_i = angle(N, light), theta_s = angle(N, view), and phi_s follows\n"

@@ -109,6 +109,22 @@ class EvalOutput(unittest.TestCase):
             self.assertEqual(rc, 0, err)
             self.assertEqual(out, reference)
 
+    def test_csv_utf8_from_a_spreadsheet_byte_order_mark_and_crlf(self):
+        """"CSV UTF-8" as spreadsheets save it: a UTF-8 byte-order mark, CRLF line ends; with and
+        without the header line, the same rows as --at."""
+        queries = ["30,30,180", "10,20,0", "45,60,90"]
+        rc, reference, err = run(["--model", "bk-modified"] + SURFACE + sum((["--at", q] for q in queries), []))
+        self.assertEqual(rc, 0, err)
+        for header in [b"theta_i,theta_s,phi_s\r\n", b""]:
+            data = b"\xef\xbb\xbf" + header + b"\r\n".join(q.encode() for q in queries) + b"\r\n"
+            with tempfile.TemporaryDirectory() as d:
+                path = os.path.join(d, "queries.csv")
+                with open(path, "wb") as f:
+                    f.write(data)
+                rc, out, err = run(["--model", "bk-modified"] + SURFACE + ["--queries", path])
+            self.assertEqual(rc, 0, f"{data!r}: {err}")
+            self.assertEqual(out, reference, data)
+
     def test_every_model_name_is_accepted(self):
         # The list the CLI reports for an unknown name is exactly the documented one.
         rc, _, err = run(["--model", "no-such-model", "--at", "10,10,180"])
@@ -236,6 +252,17 @@ class EvalErrors(unittest.TestCase):
         # An angle out of range inside a file is reported with its line too.
         line = self.expect_error(["--model", "mbk"] + SURFACE + ["--queries", "-"], r"theta_s", stdin="10,10,180\n10,91,0\n")
         self.assertRegex(line, r"line 2\b")
+
+    def test_byte_order_mark_after_line_1_is_an_error_naming_its_line(self):
+        for data, line_number in [(b"10,10,180\r\n\xef\xbb\xbf20,20,180\r\n", 2),
+                                  (b"\xef\xbb\xbf\xef\xbb\xbf10,10,180\n", 1),  # a second mark on line 1
+                                  (b"theta_i,theta_s,phi_s\n10,10,180\n20,20,180\xef\xbb\xbf\n", 3)]:
+            with tempfile.TemporaryDirectory() as d:
+                path = os.path.join(d, "queries.csv")
+                with open(path, "wb") as f:
+                    f.write(data)
+                line = self.expect_error(["--model", "mbk"] + SURFACE + ["--queries", path], r"queries")
+            self.assertRegex(line, r"line %d\b" % line_number, data)
 
     def test_unknown_asf_method(self):
         self.expect_error(["--model", "asf"] + SURFACE + ["--asf-method", "table", "--at", "10,10,180"], r"asf-method.*auto\|series")

@@ -268,6 +268,22 @@ class Interrupts(Case):
                         self.assertEqual(content, b"old", f"{layout} {signum}: final file changed")
         self.assertGreaterEqual(killed, 3, "too few runs were interrupted to test anything")
 
+    def test_blender_export_creates_a_missing_output_directory(self):
+        """`export blender --output bl/x.json` creates bl/ (and its parents), as `export povray -o` does."""
+        with tempfile.TemporaryDirectory() as d:
+            output = os.path.join(d, "bl", "nested", "x.json")
+            rc, out, err, _ = run(["export", "blender", "--model", "mbk"] + ROUGH +
+                                  ["--mode", "lut", "--resolution", "8,8,8", "--output", output], 120)
+            self.assertEqual(rc, 0, err)
+            self.assertTrue(os.path.isfile(output), err)
+            self.assertTrue(os.path.isfile(os.path.join(d, "bl", "nested", "x.exr")), os.listdir(os.path.dirname(output)))
+            # A directory that cannot be created (a file is in the way) is a one-line error naming --output.
+            with open(os.path.join(d, "file"), "w"):
+                pass
+            self.assert_usage_error(["export", "blender", "--model", "mbk"] + ROUGH +
+                                    ["--mode", "lut", "--resolution", "8,8,8", "--output", os.path.join(d, "file", "x.json")],
+                                    ["output", "directory"])
+
     def test_failed_blender_export_leaves_no_file(self):
         with tempfile.TemporaryDirectory() as d:
             os.mkdir(os.path.join(d, "m.osl"))  # the OSL cannot replace a directory: the export fails

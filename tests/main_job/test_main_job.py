@@ -43,10 +43,10 @@ def run_job():
     if job.returncode != 0:
         # The last line names every failed stage (and each failure printed its own line above).
         sys.exit(f"FAIL: run.sh --small exited {job.returncode}: {job.stderr.strip().splitlines()[-1:]}")
-    for k in range(1, 12):
-        check(f"[{k}/11]" in job.stderr, f"progress display lacks stage [{k}/11]")
-    check(len(re.findall(r"ok in [0-9.]+ s|ok in [0-9]+m[0-9]{2}s", job.stderr)) == 9,
-          "progress display should report 'ok in <time>' for the 9 stages that ran")
+    for k in range(1, 13):
+        check(f"[{k}/12]" in job.stderr, f"progress display lacks stage [{k}/12]")
+    check(len(re.findall(r"ok in [0-9.]+ s|ok in [0-9]+m[0-9]{2}s", job.stderr)) == 10,
+          "progress display should report 'ok in <time>' for the 10 stages that ran")
 
 
 def check_promised_files():
@@ -154,8 +154,26 @@ def check_tables():
     bakes = read_rows("bakes/bakes.csv")
     check(len(bakes) == len(config["surfaces"]), f"bakes.csv: {len(bakes)} bakes, want {len(config['surfaces'])}")
 
+    # The summary (tools/render_summary.py): both renderers, every default material, against brdf eval.
+    summary = read_rows("renders/summary.csv")
+    check(sorted((r["surface"], r["renderer"]) for r in summary) ==
+          sorted((s["name"], r) for s in config["surfaces"] for r in ("povray", "blender")),
+          f"renders/summary.csv: want every default material x (povray, blender), got {len(summary)} rows")
+    check(len({r["exposure"] for r in summary}) == 1, "renders/summary.csv: one exposure for every render")
+    for r in summary:
+        check(int(r["lit_pixels"]) >= 20 and float(r["median_relative_error"]) <= 0.005 and
+              float(r["p95_relative_error"]) <= 0.02,
+              f"renders/summary.csv {r['surface']} {r['renderer']}: {r['lit_pixels']} lit pixels, median "
+              f"{r['median_relative_error']} (<= 0.5%), p95 {r['p95_relative_error']} (<= 2%) against brdf eval")
+    bake_errors = read_rows("bakes/bake_errors.csv")
+    check(len(bake_errors) == 2 * len(config["surfaces"]), f"bakes/bake_errors.csv: {len(bake_errors)} rows")
+    for r in bake_errors:
+        if r["layout"] == "kernel":
+            check(float(r["bake_max_relative"]) <= 1e-4, f"bake_errors.csv: kernel layout of {r['surface']}: "
+                  f"max {r['bake_max_relative']} (<= 1e-4)")
+
     timings = read_rows("timings.csv", header_dicts=False)[1:]
-    check(len(timings) == 11, f"timings.csv: {len(timings)} stages, want 11")
+    check(len(timings) == 12, f"timings.csv: {len(timings)} stages, want 12")
     for number, title, status, seconds, log in timings:
         check(status == "ok" or status.startswith("skipped"), f"timings.csv: stage {number} {title}: {status}")
         check(float(seconds) >= 0, f"timings.csv: stage {number} time {seconds}")
@@ -164,7 +182,7 @@ def check_tables():
 def check_index(promised):
     page = open(os.path.join(OUT, "index.html"), encoding="utf-8").read()
     check("missing:" not in page, "index.html shows missing items")
-    links = re.findall(r'(?:src|href)="([^"#:]+)"', page)
+    links = re.findall(r'''(?:src|href)=["']([^"'#:]+)["']''', page)
     for link in links:
         check(os.path.isfile(os.path.join(OUT, link)), f"index.html links {link}, which does not exist")
     for rel in promised:
@@ -173,6 +191,25 @@ def check_index(promised):
     check(page.count("<figcaption>") >= len([p for p in promised if p.endswith(".png")]),
           "index.html: every figure needs a caption")
     check(page.count("<table>") >= 5, "index.html: expected the timings, surfaces, bakes, Fig. 2 and bench tables")
+    # The first screen is the summary; the stage timings come last; long tables are folded.
+    first_section = page.find("<h2")
+    check(0 < page.find("class='summary'") < first_section, "index.html: the summary table comes before any section")
+    check(page.find("<h2 id='stages'>") == page.rfind("<h2"), "index.html: stages and timings are the last section")
+    # The summary's cells: every material in both renderers on the first screen; on one exposure the
+    # polished highlights are small, the rough lobes wide and bright.
+    config = brdfcli.load_materials()
+    for s in config["surfaces"]:
+        for renderer in ("povray", "blender"):
+            rel = f"renders/summary/{s['name']}_{renderer}.png"
+            check(f"src='{rel}'" in page and os.path.isfile(os.path.join(OUT, rel)), f"index.html: summary cell {rel}")
+            if s["sigma_over_lambda"] >= 0.5 and os.path.isfile(os.path.join(OUT, rel)):
+                colour = oiio.ImageBuf(os.path.join(OUT, rel)).get_pixels(oiio.FLOAT)[..., :3]
+                check(colour.max() > 0.2 and colour.std() > 0.02, f"{rel}: a rough sphere should be visible "
+                      f"(max {colour.max():.3f}, std {colour.std():.4f})")
+    for name in ["bench.csv", "albedo_summary.csv"]:
+        at = page.find(f'href="{name}"')
+        check(at > 0 and page.rfind("<details>", 0, at) > page.rfind("</details>", 0, at),
+              f"index.html: the long table {name} is folded in <details>")
 
 
 def main():

@@ -5,7 +5,7 @@ Checks that it writes the promised PNGs and EXRs (readable, finite, non-negative
 the difference of mbk against itself is exactly 0, and that the spheres of the comparison EXR
 (radiance per unit irradiance after the tool divides its exposure back out) match `brdf eval` at the
 analytic sphere normals within 2% (pixels above 1e-3 of the sphere's peak, silhouette excluded):
-mbk on every surface and every model on the rough one (each `brdf eval` call costs a process, and
+mbk on every surface and every model on the roughest one (each `brdf eval` call costs a process, and
 test_exact_render.py covers the models in depth).
 
 Environment (set by ctest): BRDF_EXE, LIBBRDF_ROOT, LIBBRDF_BUILD.
@@ -49,22 +49,22 @@ def main():
         check(np.all(np.isfinite(image)) and image.min() >= 0 and image.max() > 0, f"povray_{name}.exr: "
               f"values should be finite, >= 0 and not all 0 ({image.min():.3g}..{image.max():.3g})")
 
-    rows, columns = len(tool.SURFACES), len(tool.MODELS)
+    surfaces = tool.surfaces(None, small=True)
+    rows, columns = len(tool.MODELS), len(surfaces)  # rows: models, columns: surfaces (as in Blender)
     cell = radiance.shape[1] // columns
     check(radiance.shape[0] == rows * cell, f"comparison EXR {radiance.shape} is not {rows}x{columns} cells")
-    check(np.all(difference[:, :cell] == 0), "the mbk column of the difference should be exactly 0")
-    # Analytic normals of a unit sphere centred in a cell 2.3 world units wide (comparison.pov).
+    check(np.all(difference[:cell, :] == 0), "the mbk row of the difference should be exactly 0")
+    # Analytic normals of a unit sphere centred in a cell tool.SPACING world units wide (comparison.pov).
     j, i = np.mgrid[0:cell, 0:cell]
-    x = (i + 0.5) / cell * 2.3 - 1.15
-    y = 1.15 - (j + 0.5) / cell * 2.3
+    x = (i + 0.5) / cell * tool.SPACING - tool.SPACING / 2
+    y = tool.SPACING / 2 - (j + 0.5) / cell * tool.SPACING
     inside = pc.erode(x * x + y * y < 1.0, 2)
     normals = np.stack([x, y, -np.sqrt(np.clip(1 - x * x - y * y, 0, None))], -1)[inside]
-    surfaces = tool.surfaces(None)
-    for r, surface in enumerate(surfaces):
-        for c, model in enumerate(tool.MODELS):
-            if model != "mbk" and surface["label"] != "rough":
+    for c, surface in enumerate(surfaces):
+        for m, model in enumerate(tool.MODELS):
+            if model != "mbk" and c != len(surfaces) - 1:  # every model on the roughest surface
                 continue
-            block = radiance[r * cell:(r + 1) * cell, c * cell:(c + 1) * cell, :3][inside]
+            block = radiance[m * cell:(m + 1) * cell, c * cell:(c + 1) * cell, :3][inside]
             predicted, lit = pc.predicted_radiance(BRDF, model, surface["params"], [0.65, 0.55, 0.45], normals,
                                                    tool.LIGHT, tool.VIEW)
             use = lit[:, None] & (predicted > 1e-3 * predicted.max(axis=0))

@@ -152,6 +152,37 @@ e = raises(V, lambda: m(np.zeros((2, 3)), np.array([[10, 10, 10], [10, nan, 10]]
 check(e is not None and e.index == 4, "a 2-D batch names the flat index of the bad query (4)")
 e = raises(V, lambda: libbrdf.Model("mbk", material="Au", sigma_s=-1.0, lc=2.0), "sigma_s")
 check(e is not None and e.index is None, "a bad model parameter has index None")
+# --- a mistyped keyword: one line naming it and the accepted ones (not pybind11's overload dump) --
+MODEL_KEYWORDS = ["name", "sigma_s", "lc", "wavelength", "n", "k", "material", "sigma_g", "rho_s", "rho_d", "g_term",
+                  "k_mode", "sigma_g_mapping", "tolerance"]
+for label, call, bad, accepted in [
+        ("Model(sigma=)", lambda: libbrdf.Model("mbk", material="Au", sigma=0.05, lc=2.0), "sigma", MODEL_KEYWORDS),
+        ("Model(wavelenght=)", lambda: libbrdf.Model("mbk", material="Au", sigma_s=0.05, lc=2.0, wavelenght=0.5), "wavelenght",
+         MODEL_KEYWORDS),
+        ("bake(resolutoin=)", lambda: libbrdf.bake("mbk", resolutoin=[8, 8, 8], **GOLD), "resolutoin",
+         ["layout", "resolution", "target_error", "light", "view", "error_samples", "seed"] + MODEL_KEYWORDS)]:
+    e = raises(TypeError, call)
+    text = str(e) if e else ""
+    listed = text.split("accepted: ")[-1].split(", ") if "accepted: " in text else []
+    check(e is not None and "\n" not in text and f"'{bad}'" in text and set(accepted) <= set(listed) and len(text) < 400,
+          f"{label}: one-line TypeError naming '{bad}' and the accepted keywords: {text!r}")
+check("did you mean 'sigma_s'" in str(raises(TypeError, lambda: libbrdf.Model("mbk", sigma=0.05, lc=2.0, material="Au"))),
+      "Model(sigma=) suggests sigma_s")
+check(repr(libbrdf.Model("mbk", **GOLD)) == repr(m), "the keyword check leaves a correct call alone")
+
+# --- repr: material (name, else n and k), roughness and wavelength; evaluating it rebuilds the model --
+for model, expected in [
+        (m, ["'mbk'", "material='Au'", "sigma_s=0.05", "lc=2.0", "wavelength=0.55"]),
+        (libbrdf.Model("bk-modified", n=1.5, k=0.25, sigma_s=0.1, lc=1.2, wavelength=0.65),
+         ["'bk-modified'", "n=1.5", "k=0.25", "sigma_s=0.1", "lc=1.2", "wavelength=0.65"]),
+        (libbrdf.Model("microfacet", material="Al", sigma_s=0.1, lc=2.0, rho_s=0.5, rho_d=0.1),
+         ["material='Al'", "sigma_s=0.1", "lc=2.0", "rho_s=0.5", "rho_d=0.1", "wavelength=0.55"])]:
+    text = repr(model)
+    rebuilt = eval(text, {"libbrdf": libbrdf})
+    angles = (np.array([10.0, 30.0, 60.0]), np.array([20.0, 45.0, 70.0]), np.array([180.0, 90.0, 0.0]))
+    check(all(part in text for part in expected) and np.array_equal(rebuilt(*angles), model(*angles)),
+          f"repr {text} names {expected} and rebuilds the same values")
+
 # --- Ctrl-C cancels a bake: KeyboardInterrupt, promptly (the whole bake takes ~25 s) ----------
 import signal  # noqa: E402
 

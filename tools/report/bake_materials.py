@@ -6,6 +6,8 @@ One OpenEXR table per surface: the mbk model (the paper's reference) at the bake
   <name>.exr   the tables
   bakes.csv    per table: surface, model, file, size, bake time and the error the bake measured
                against direct evaluation (read back from the file's header)
+  bake_errors.csv, bake_errors.png, <name>.kernel.exr
+               where that error comes from, and the same surfaces in the kernel layout (bake_errors.py)
 """
 import argparse
 import csv
@@ -16,6 +18,7 @@ import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import bake_errors  # noqa: E402
 import brdfcli  # noqa: E402
 
 MODEL = "mbk"
@@ -87,6 +90,7 @@ def main():
         writer = csv.DictWriter(f, fieldnames=list(rows[0]))
         writer.writeheader()
         writer.writerows(rows)
+    bake_errors.analyse(args.brdf, config, args.out, 50000 if args.small else 400000)
 
 
 if __name__ == "__main__":
