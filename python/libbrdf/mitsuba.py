@@ -19,8 +19,8 @@ What each method computes:
            its wi; importance transport swaps them (mbk and bk are not reciprocal).
   sample() chooses the specular spike with probability P_spec = R_spec / F(theta) (= exp(-g) for
            the MBK family, eq. 11's m = 0 term), else the proxy lobe: a Beckmann distribution of
-           normals (alpha = sqrt(2) sigma_g, sigma_g as the `microfacet` model maps it, eqs 20/25)
-           mixed with a cosine lobe that covers the tails. Weight = eval / pdf, pdf of the mixture.
+           normals (alpha = sqrt(2) sigma_g, sigma_g as the `microfacet` model maps it, eqs 20/25,
+           at the shortest and the longest wavelength) mixed with a cosine lobe for the tails. Weight = eval / pdf, pdf of the mixture.
   pdf()    the exact density of sample()'s glossy part (solid angle), times (1 - P_spec).
   spike    a delta lobe (component 1, DeltaReflection) in the mirror direction whose reflectance is
            R_spec(theta) = F(theta) exp(-g(theta, theta)) (conventions: "The specular spike").
@@ -56,6 +56,7 @@ MIN_COSINE = 1e-7  # directions closer to the horizon than this cos theta scatte
 # float32, and a sample of weight 0 counts as no sample (Mitsuba's convention, its chi2 adapter's).
 SUPPORT_FLOOR = 1e-30
 _LOBE, _SPIKE = 0, 1  # component indices
+SPECTRAL_RANGE_UM = (0.36, 0.83)  # Mitsuba's spectral range: the proxy's lobes at its ends
 
 
 def enable_evaluated_mode():
@@ -166,26 +167,30 @@ def beckmann_normal_pdf(m, alpha):
     return np.where(ok, d * cos_m, 0.0)
 
 
-def glossy_pdf(wi, wo, alpha):
-    """Density (solid angle of wo) of the glossy proxy: (1 - c) Beckmann reflection + c cos/pi."""
+def glossy_pdf(wi, wo, alphas):
+    """Density (solid angle of wo) of the glossy proxy: (1 - c) x the mean of the Beckmann
+    reflections of each alpha + c cos/pi."""
     h = wi + wo
     length = np.linalg.norm(h, axis=1)
     ok = (wo[:, 2] > MIN_COSINE) & (wi[:, 2] > MIN_COSINE) & (length > 0)
     m = h / np.where(length > 0, length, 1.0)[:, None]
     wo_dot_m = np.einsum("ij,ij->i", wo, m)
     ok &= wo_dot_m > 0
-    reflection = beckmann_normal_pdf(m, alpha) / (4.0 * np.where(ok, wo_dot_m, 1.0))  # Jacobian of reflection
+    normals = sum(beckmann_normal_pdf(m, alpha) for alpha in alphas) / len(alphas)
+    reflection = normals / (4.0 * np.where(ok, wo_dot_m, 1.0))  # Jacobian of reflection
     cosine = np.maximum(wo[:, 2], 0.0) / np.pi
     return np.where(ok, (1.0 - COSINE_FRACTION) * reflection + COSINE_FRACTION * cosine, 0.0)
 
 
-def sample_glossy(wi, u_choice, u2, alpha):
-    """Directions wo from the glossy proxy (u_choice in [0,1) picks the cosine or Beckmann part)."""
+def sample_glossy(wi, u_choice, u2, alphas):
+    """Directions wo from the glossy proxy (u_choice in [0,1) picks the cosine or a Beckmann part)."""
     phi = 2.0 * np.pi * u2[:, 1]
     # Cosine lobe (Malley): a uniform disk point lifted to the hemisphere.
     r = np.sqrt(u2[:, 0])
     cosine_wo = np.stack([r * np.cos(phi), r * np.sin(phi), np.sqrt(np.maximum(1.0 - u2[:, 0], 0.0))], axis=1)
     # Beckmann normals: tan^2 theta_m = -alpha^2 ln(1 - u), then mirror wi about m.
+    which = np.clip(((u_choice - COSINE_FRACTION) / (1.0 - COSINE_FRACTION) * len(alphas)).astype(int), 0, len(alphas) - 1)
+    alpha = np.asarray(alphas, np.float64)[which]
     tan2 = -alpha * alpha * np.log1p(-u2[:, 0])
     cos_m = 1.0 / np.sqrt(1.0 + tan2)
     sin_m = np.sqrt(np.maximum(1.0 - cos_m * cos_m, 0.0))
@@ -213,17 +218,28 @@ class LibbrdfBSDFMethods:
                              f"use scalar_spectral or llvm_ad_rgb")
         if self.spectral:
             self._cache = collections.OrderedDict()
-            self.alpha = proxy_alpha(self.model_name, self.surface, 0.55)
+            low, high = SPECTRAL_RANGE_UM
+            if "material" in self.surface:  # a tabulated index: its range (other wavelengths fail in eval)
+                table_low, table_high = _core.materials()[self.surface["material"]]["wavelength_range_um"]
+                low, high = max(low, table_low), min(high, table_high)
+            self.alphas = self.proxy_alphas((low, high))
             probe = self.at_wavelength(0.55)  # bad parameters fail here, at load time
         else:
             self.channels = [SurfaceAtWavelength(self.model_name, self.surface, w) for w in self.rgb_wavelengths]
-            self.alpha = proxy_alpha(self.model_name, self.surface, self.rgb_wavelengths[len(self.rgb_wavelengths) // 2])
+            self.alphas = self.proxy_alphas(self.rgb_wavelengths)
             probe = self.channels[0]
         self.has_spike = probe.has_spike
         lobe = mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
         spike = mi.BSDFFlags.DeltaReflection | mi.BSDFFlags.FrontSide
         self.m_components = [lobe, spike] if self.has_spike else [lobe]
         self.m_flags = (lobe | spike) if self.has_spike else lobe
+
+    def proxy_alphas(self, wavelengths_um):
+        """The proxy's alphas at the shortest and longest wavelength: eq. 25's polished lobe widens
+        with lambda, and a proxy narrower than the red lobe would leave it to the cosine part
+        (rare large weights). One alpha where they agree (eq. 20 does not depend on lambda)."""
+        ends = [proxy_alpha(self.model_name, self.surface, w) for w in (min(wavelengths_um), max(wavelengths_um))]
+        return tuple(sorted(set(ends)))
 
     # --- per-wavelength models -------------------------------------------------------------------
     def at_wavelength(self, wavelength_um):
@@ -320,13 +336,17 @@ class LibbrdfBSDFMethods:
             raise RuntimeError("libbrdf.mitsuba: a symbolic trace has no values for the batch API; "
                                "call libbrdf.mitsuba.enable_evaluated_mode() before rendering with an LLVM variant")
 
-    def eval(self, ctx, si, wo, active=True):
+    def _evaluate(self, ctx, si, wo, active):
+        """(wi, wo, valid rows, surfaces, f cos theta_o per channel) of an eval()/pdf() call."""
         self._check_evaluated()
         wi, wo_np, valid, _ = self._inputs(si, wo, active)
         surfaces = self.surfaces_for(si)
         if not ctx.is_enabled(mi.BSDFFlags.GlossyReflection, _LOBE):
             valid = np.zeros_like(valid)
-        return self._spectrum(self._lobe_values(ctx, surfaces, wi, wo_np, valid))
+        return wi, wo_np, valid, surfaces, self._lobe_values(ctx, surfaces, wi, wo_np, valid)
+
+    def eval(self, ctx, si, wo, active=True):
+        return self._spectrum(self._evaluate(ctx, si, wo, active)[-1])
 
     def _glossy_pdf(self, ctx, surfaces, wi, wo, valid, values):
         """sample()'s density of wo for the glossy part: (1 - P_spec) x proxy where f cos > floor."""
@@ -334,18 +354,13 @@ class LibbrdfBSDFMethods:
             return np.zeros(wi.shape[0])
         valid = valid & (values.max(axis=1) > SUPPORT_FLOOR)
         p_spec, _ = self._spike_probability(ctx, surfaces, wi, valid)
-        return np.where(valid, (1.0 - p_spec) * glossy_pdf(wi, wo, self.alpha), 0.0)
+        return np.where(valid, (1.0 - p_spec) * glossy_pdf(wi, wo, self.alphas), 0.0)
 
     def pdf(self, ctx, si, wo, active=True):
         return self.eval_pdf(ctx, si, wo, active)[1]
 
     def eval_pdf(self, ctx, si, wo, active=True):
-        self._check_evaluated()
-        wi, wo_np, valid, _ = self._inputs(si, wo, active)
-        surfaces = self.surfaces_for(si)
-        if not ctx.is_enabled(mi.BSDFFlags.GlossyReflection, _LOBE):
-            valid = np.zeros_like(valid)
-        values = self._lobe_values(ctx, surfaces, wi, wo_np, valid)
+        wi, wo_np, valid, surfaces, values = self._evaluate(ctx, si, wo, active)
         return self._spectrum(values), self._float(self._glossy_pdf(ctx, surfaces, wi, wo_np, valid, values))
 
     def sample(self, ctx, si, sample1, sample2, active=True):
@@ -360,7 +375,7 @@ class LibbrdfBSDFMethods:
         # The lobe reuses u1 past the spike's share to choose between its cosine and Beckmann parts.
         u_lobe = np.where(p_spec < 1.0, (u1 - p_spec) / np.where(p_spec < 1.0, 1.0 - p_spec, 1.0), 0.0)
         wo = np.tile([0.0, 0.0, 1.0], (n, 1))
-        wo[take_lobe] = sample_glossy(wi[take_lobe], u_lobe[take_lobe], u2[take_lobe], self.alpha)
+        wo[take_lobe] = sample_glossy(wi[take_lobe], u_lobe[take_lobe], u2[take_lobe], self.alphas)
         wo[take_spike] = wi[take_spike] * np.array([-1.0, -1.0, 1.0])
         # The direction Mitsuba receives (float32 in every supported variant): weight and pdf are
         # computed there, so that eval(wo) / pdf(wo) later gives this weight again.
@@ -371,7 +386,7 @@ class LibbrdfBSDFMethods:
         if np.any(take_lobe):
             values = self._lobe_values(ctx, surfaces, wi, wo, take_lobe)
             take_lobe &= values.max(axis=1) > SUPPORT_FLOOR  # as _glossy_pdf
-            pdf[take_lobe] = (1.0 - p_spec[take_lobe]) * glossy_pdf(wi[take_lobe], wo[take_lobe], self.alpha)
+            pdf[take_lobe] = (1.0 - p_spec[take_lobe]) * glossy_pdf(wi[take_lobe], wo[take_lobe], self.alphas)
             take_lobe &= pdf > 0
             weight[take_lobe] = values[take_lobe] / pdf[take_lobe, None]
         if np.any(take_spike):
@@ -407,4 +422,4 @@ class LibbrdfBSDFMethods:
     def to_string(self):
         surface = ", ".join(f"{k}={v}" for k, v in self.surface.items())
         where = "spectral" if self.spectral else f"wavelengths={self.rgb_wavelengths} um"
-        return f"LibbrdfBSDF[model={self.model_name}, {surface}, {where}, proxy alpha={self.alpha:.4g}]"
+        return f"LibbrdfBSDF[model={self.model_name}, {surface}, {where}, proxy alpha={', '.join(f'{a:.4g}' for a in self.alphas)}]"

@@ -8,6 +8,10 @@ four incident angles each (random in 0-20, 20-45, 45-70 and 70-85 deg), 1e6 samp
 0.01 with Sidak's correction over the 12 tests. ires = 16 points per cell edge for the density's
 integral: the polished lobe spans a few cells, where Mitsuba's default 4 misjudges the cell
 integrals by more than the sampling noise (measured: p = 1e-15 with 4, p = 0.78 with 16, same lobe).
+The domain is Mitsuba's SphericalDomain turned so that its pole is +y, normal to the plane of
+incidence: the lobes lie on its equator, where its (phi, cos theta) cells are even. With the pole
+on +z, a polished lobe near normal incidence is thinner than one cell in cos theta (1 - cos 3 deg
+= 0.0014 against cells of 0.02) and the cell integrals fail instead (measured: p = 4e-8 at 0.6 deg).
 Then the parts chi2 cannot see, with the full context: the spike is chosen with probability
 P_spec and weighs R_spec / P_spec, R_spec equal to `brdf eval --model r-spec`; the glossy pdf
 is (1 - P_spec) x the lobe's; and a lobe sample's weight is eval / pdf at its direction.
@@ -26,6 +30,18 @@ from mitsuba.chi2 import BSDFAdapter, ChiSquareTest, SphericalDomain  # noqa: E4
 
 BRDF = mc.brdf_exe()
 rng = np.random.default_rng(env.seed())
+
+
+class EquatorialDomain(SphericalDomain):
+    """SphericalDomain with its pole on +y (x, y, z -> x, z, y): the plane of incidence (x-z) is its equator."""
+
+    def map_forward(self, p):
+        v = super().map_forward(p)
+        return mi.Vector3f(v.x, v.z, v.y)
+
+    def map_backward(self, p):
+        return super().map_backward(mi.Vector3f(p.x, p.z, p.y))
+
 ANGLE_RANGES = ((0.0, 20.0), (20.0, 45.0), (45.0, 70.0), (70.0, 85.0))
 TESTS = len(env.ROUGHNESS) * len(ANGLE_RANGES)
 
@@ -41,7 +57,7 @@ for roughness in env.ROUGHNESS:
         theta = float(rng.uniform(low, high))
         wi = [float(np.sin(np.radians(theta))), 0.0, float(np.cos(np.radians(theta)))]
         sample_func, pdf_func = BSDFAdapter("libbrdf", bsdf, wi=wi, ctx=glossy_only)
-        test = ChiSquareTest(domain=SphericalDomain(), sample_func=sample_func, pdf_func=pdf_func, sample_dim=3, ires=16,
+        test = ChiSquareTest(domain=EquatorialDomain(), sample_func=sample_func, pdf_func=pdf_func, sample_dim=3, ires=16,
                              seed=int(rng.integers(1 << 31)))
         accepted = test.run(0.01, test_count=TESTS, quiet=True)
         p_values.append(test.p_value)
