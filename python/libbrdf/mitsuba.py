@@ -16,11 +16,13 @@ What each method computes:
   eval()   the model through the batch API (Model.directions) at its tolerance (1e-6 by default),
            times cos(theta_o) as Mitsuba's BSDF::eval expects. Radiance transport: libbrdf's incident
            direction (towards the light) is Mitsuba's wo and the scattered one (towards the viewer)
-           its wi; importance transport swaps them (mbk and bk are not reciprocal).
+           its wi; importance transport swaps them (mbk, bk and microfacet with its default
+           rho_s = K(theta_i) are not reciprocal).
   sample() chooses the specular spike with probability P_spec = R_spec / F(theta) (= exp(-g) for
            the MBK family, eq. 11's m = 0 term), else the proxy lobe: a Beckmann distribution of
            normals (alpha = sqrt(2) sigma_g, sigma_g as the `microfacet` model maps it, eqs 20/25,
-           at the shortest and the longest wavelength) mixed with a cosine lobe for the tails. Weight = eval / pdf, pdf of the mixture.
+           at the shortest and the longest wavelength) mixed with a cosine lobe for the tails.
+           Weight = eval / pdf, the pdf of the whole mixture.
   pdf()    the exact density of sample()'s glossy part (solid angle), times (1 - P_spec).
   spike    a delta lobe (component 1, DeltaReflection) in the mirror direction whose reflectance is
            R_spec(theta) = F(theta) exp(-g(theta, theta)) (conventions: "The specular spike").
@@ -116,7 +118,7 @@ def surface_from_properties(props, model=None):
 
 
 class SurfaceAtWavelength:
-    """The model, Fresnel and the proxy's alpha of one surface at one wavelength (um)."""
+    """The model and its Fresnel term (for P_spec) of one surface at one wavelength (um)."""
 
     def __init__(self, name, surface, wavelength_um):
         self.model = _core.Model(name, wavelength=wavelength_um, **surface)

@@ -15,13 +15,13 @@ sys.path.insert(0, str(ROOT / "tools"))
 sys.path.insert(0, str(ROOT / "tests"))
 import checks  # noqa: E402,F401
 import mitsuba_common  # noqa: E402,F401
+from libbrdf.mitsuba import BRDF_MODELS  # noqa: E402
 
 DESIGN_WAVELENGTH_UM = 0.55
 ROUGHNESS = {"polished": (0.002, 0.01), "intermediate": (0.03, 0.15), "rough": (0.3, 3.0)}
 MATERIALS = ("Au", "Ag", "Al", "Cu", "BK7")
 
 
-BRDF_MODELS = ("mbk", "mbk-polished", "mbk-rough", "mbk-fg", "bk", "bk-modified", "microfacet")
 
 
 def models_for(roughness):
