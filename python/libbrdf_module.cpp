@@ -401,7 +401,7 @@ bool ends_with(const std::string& text, const std::string& suffix) {
 
 }  // namespace
 
-PYBIND11_MODULE(libbrdf, m) {
+PYBIND11_MODULE(_core, m) {
   m.doc() = "libbrdf: MBK, Beckmann-Kirchhoff and microfacet BRDFs (Butler, Nauyoks & Marciniak 2015) on numpy arrays";
   m.attr("__version__") = libbrdf::kVersion;
 

@@ -11,7 +11,6 @@ import sys
 from pathlib import Path
 
 import numpy as np
-import OpenImageIO as oiio
 
 ROOT = Path(__file__).resolve().parent.parent
 POVRAY_DIR = ROOT / "povray"
@@ -47,6 +46,7 @@ def run_povray(scene, output, width, height, library_paths=(), declares=None, wo
 
 
 def read_exr(path):
+    import OpenImageIO as oiio  # here, not at the top: tools/mitsuba_common.py imports this module in a venv without it
     image = oiio.ImageBuf(str(path))
     if image.has_error:
         raise RuntimeError(f"{path}: {image.geterror()}")
@@ -58,6 +58,7 @@ def read_exr(path):
 
 def write_exr(path, pixels):
     pixels = np.ascontiguousarray(pixels, dtype=np.float32)
+    import OpenImageIO as oiio
     spec = oiio.ImageSpec(pixels.shape[1], pixels.shape[0], pixels.shape[2], oiio.FLOAT)
     out = oiio.ImageBuf(spec)
     out.set_pixels(oiio.ROI(), pixels)

@@ -205,9 +205,10 @@ import tempfile  # noqa: E402
 readme = open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "README.md")).read()
 blocks = re.findall(r"```python\n(.*?)```", readme, re.S)
 check(len(blocks) == 1 and len(blocks[0].splitlines()) <= 15, "the README has one Python example, at most 15 lines")
+PACKAGE_PARENT = os.path.dirname(os.path.dirname(os.path.abspath(libbrdf.__file__)))  # build/python (libbrdf/__init__.py)
 with tempfile.TemporaryDirectory() as tmp:
     run = subprocess.run([sys.executable, "-c", blocks[0]], cwd=tmp, capture_output=True, text=True,
-                         env=dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=os.path.dirname(os.path.abspath(libbrdf.__file__))), timeout=120)
+                         env=dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=PACKAGE_PARENT), timeout=120)
     png = os.path.join(tmp, "in_plane.png")
     check(run.returncode == 0 and os.path.getsize(png) > 10000 if os.path.exists(png) else False,
           f"the README example ran and wrote in_plane.png: {run.stderr.strip()[-300:]}")

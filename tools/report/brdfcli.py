@@ -53,17 +53,24 @@ _modules = {}
 
 
 def module_for(brdf):
-    """The `libbrdf` Python module of the build that holds `brdf` (BUILD/cli/brdf -> BUILD/python/
-    libbrdf*.so), or None when that build has none. Loaded from that file, not from sys.path, so
-    that the numbers always come from the same build as the program."""
+    """The `libbrdf` Python package of the build that holds `brdf` (BUILD/cli/brdf -> BUILD/python/
+    libbrdf/), or None when that build has none. Loaded from that directory, not from sys.path, so
+    that the numbers always come from the same build as the program. (Builds before the package
+    layout held a single module BUILD/python/libbrdf*.so; it is loaded the same way.)"""
     exe = shutil.which(brdf) or brdf
     directory = os.path.join(os.path.dirname(os.path.dirname(os.path.realpath(exe))), "python")
     if directory not in _modules:
-        found = sorted(glob.glob(os.path.join(directory, "libbrdf*.so")))
+        package = os.path.join(directory, "libbrdf", "__init__.py")
+        single = sorted(glob.glob(os.path.join(directory, "libbrdf*.so")))
         module = None
-        if found:
-            spec = importlib.util.spec_from_file_location("libbrdf", found[0])
+        if os.path.exists(package) or single:
+            # In sys.modules before it runs: the package's relative import of _core looks it up there.
+            if os.path.exists(package):
+                spec = importlib.util.spec_from_file_location("libbrdf", package, submodule_search_locations=[os.path.dirname(package)])
+            else:
+                spec = importlib.util.spec_from_file_location("libbrdf", single[0])
             module = importlib.util.module_from_spec(spec)
+            sys.modules[spec.name] = module
             spec.loader.exec_module(module)
         _modules[directory] = module
     return _modules[directory]
