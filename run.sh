@@ -7,6 +7,8 @@
 #   --small     reduced sizes (coarser grids, smaller bakes and renders; what the test runs)
 #   --out DIR   report directory (default: out/report)
 #   --no-build  skip installing packages and building; use $BRDF_EXE (default build/cli/brdf)
+# Expected duration (stated when it starts): ~8 min on a fresh two-core machine (7m33s measured,
+# 5m13s of it installing and building); `--small --no-build` 2m16s.
 # Progress (numbered stages with elapsed times) goes to stderr; each stage's own output goes to
 # DIR/logs/. A failed stage does not stop the later ones (except install/build); the job exits 1
 # at the end naming every failed stage.
@@ -21,7 +23,7 @@ while (($#)); do
     --out) [[ $# -ge 2 ]] || { echo "run.sh: --out needs a directory" >&2; exit 2; }; out=$2; shift ;;
     --out=*) out=${1#--out=} ;;
     --no-build) build=0 ;;
-    -h|--help) sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "run.sh: unknown option '$1' (see ./run.sh --help)" >&2; exit 2 ;;
   esac
   shift
@@ -144,6 +146,16 @@ stage_index() {
 mode="full size"
 ((small)) && mode="reduced size (--small)"
 printf 'libbrdf main job, %s -> %s\n' "$mode" "$out" >&2
+# Measured on two-core machines: a fresh full-size run took 7m33s, 5m13s of it installing and
+# building; `--small --no-build` took 2m16s on a shared machine.
+if ((build)); then
+  expected="~8 min on a fresh two-core machine (~5 min of it the install and build; less when build/ is up to date)"
+  ((small)) && expected="the install and build (~5 min when fresh) plus ~2-3 min"
+else
+  expected="~2.5 min on two cores"
+  ((small)) && expected="~2-3 min on two cores"
+fi
+printf 'expected duration: %s\n' "$expected" >&2
 if ((build)); then
   run_stage install "Install missing Debian packages (scripts/install_deps.sh --with-renderers)" stage_install ||
     { echo "run.sh: cannot continue without the packages" >&2; exit 1; }
