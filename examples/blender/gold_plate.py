@@ -1,4 +1,4 @@
-"""A gold plate and a gold ball on a grey floor, built from an empty scene, lit by one sun, with
+"""A polished gold plate and a gold ball on a grey floor, built from an empty scene, lit by one sun, with
 the libbrdf add-on's MBK material (Cycles). A template for your own scene.
 
     blender -b --python gold_plate.py -- OUT.png [WIDTH HEIGHT]
@@ -38,11 +38,14 @@ bpy.ops.mesh.primitive_uv_sphere_add(segments=96, ring_count=48, radius=0.6, loc
 ball = bpy.context.active_object
 bpy.ops.object.shade_smooth()
 
-# One sun, 50 deg from the zenith; LUT mode is lit by the Sun lamps of the scene.
+# One sun behind the plate, 45 deg from the zenith (LUT mode is lit by the Sun lamps of the scene),
+# and a neutral grey sky, which the surface sees through its mirror lobe.
 sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
 sun.data.energy = 3.0
-sun.rotation_euler = (math.radians(50), 0, math.radians(30))
+sun.rotation_euler = (math.radians(-45), 0, math.radians(-20))
 scene.collection.objects.link(sun)
+scene.world.use_nodes = True
+scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.6, 0.6, 0.6, 1)
 
 camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
 camera.location = (0, -6.5, 3.6)
@@ -50,10 +53,10 @@ camera.rotation_euler = (math.radians(62), 0, 0)
 scene.collection.objects.link(camera)
 scene.camera = camera
 
-# Gold by the libbrdf add-on: MBK, sigma_s = 0.1 um, l_c = 2 um (the add-on runs `brdf export
+# Gold by the libbrdf add-on: MBK, sigma_s = 0.05 um, l_c = 2 um (the add-on runs `brdf export
 # blender` and builds the node group); the ball gets the same material.
 bpy.context.view_layer.objects.active = plate
-result = bpy.ops.libbrdf.add_material(model="mbk", material="Au", sigma_s=0.1, lc=2.0, mode="LUT")
+result = bpy.ops.libbrdf.add_material(model="mbk", material="Au", sigma_s=0.05, lc=2.0, mode="LUT")
 if result != {"FINISHED"}:
     sys.exit(f"libbrdf.add_material: {result}")
 ball.data.materials.append(plate.active_material)
