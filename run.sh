@@ -111,8 +111,9 @@ need_script() {
 
 stage_install() { "$root/scripts/install_deps.sh" --with-renderers; }
 # The Python module too: the report's scripts take their numbers from it (tools/report/brdfcli.py),
-# and building it here keeps it from lagging behind a rebuilt brdf.
-stage_build() { "$root/scripts/build.sh" "$root/build" brdf libbrdf_python; }
+# and building it here keeps it from lagging behind a rebuilt brdf. With the add-on's zip, the build
+# holds everything `cmake --install build` installs (the README's quickstart).
+stage_build() { "$root/scripts/build.sh" "$root/build" brdf libbrdf_python libbrdf_blender_addon; }
 stage_bake() {
   need_subcommand bake || return 1
   "$py" "$root/tools/report/bake_materials.py" --brdf "$brdf" --out "$out/bakes" "${small_flag[@]}"
