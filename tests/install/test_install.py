@@ -7,7 +7,8 @@ Installs the build ($LIBBRDF_BUILD) into a fresh temporary prefix, then:
 - tests/install/consumer/, configured and built with Debian's /usr/bin/cmake and only
   CMAKE_PREFIX_PATH=PREFIX, links libbrdf::libbrdf (a static library: its private dependencies
   come through the package's find_dependency) and checks F at normal incidence against
-  ((n-1)^2+k^2)/((n+1)^2+k^2) and the batch path against the scalar Fresnel function;
+  ((n-1)^2+k^2)/((n+1)^2+k^2), the batch path against the scalar Fresnel function, and
+  libbrdf::exporters' POV-Ray slope value against 1/2 + asin(N.d)/pi;
 - PREFIX/bin/brdf eval gives F(0) = ((n-1)^2+k^2)/((n+1)^2+k^2) for two indices;
 - the installed Python module (PREFIX/lib/python3.X/site-packages) imports from there and agrees.
 
@@ -67,8 +68,8 @@ def main():
             if check(built.returncode == 0, "consumer links libbrdf::libbrdf and libbrdf::exporters"):
                 ran = run([os.path.join(consumer_build, "consumer")])
                 print(ran.stdout, end="")
-                check(ran.returncode == 0 and ran.stdout.count("ok  ") == 3,
-                      "consumer's checks hold (F(0) formula, batch against scalar)")
+                check(ran.returncode == 0 and ran.stdout.count("ok  ") == 4,
+                      "consumer's checks hold (F(0) formula, batch against scalar, exporters' slope value)")
         # The version file refuses a version the package is not (0.x: same minor version only).
         too_new = run(["/usr/bin/cmake", "-S", os.path.join(ROOT, "tests", "install", "consumer"),
                        "-B", os.path.join(tmp, "consumer-too-new"), f"-DCMAKE_PREFIX_PATH={prefix}",

@@ -1,5 +1,6 @@
 // Links an installed libbrdf and checks values it computes against formulas written here.
 // Exit 0 when all hold; prints each check.
+#include <exporters/povray.h>
 #include <libbrdf/batch.h>
 #include <libbrdf/fresnel.h>
 #include <libbrdf/materials.h>
@@ -41,6 +42,10 @@ int main() {
   }
   check(worst <= 1e-12, "batch F(theta) at specular, 1e4 angles: max relative difference", worst, 0.0);
   check(std::abs(values[0] - f0) <= 1e-14 * f0, "batch F at normal incidence (SIMD lanes: within rounding)", values[0], f0);
+  // libbrdf::exporters: POV-Ray's slope pattern at N.d = 1/2 is 1/2 + asin(1/2)/pi = 2/3
+  // (povray/libbrdf.inc, "Normal pass").
+  const double slope = libbrdf::povray::slope_value(0.5);
+  check(std::abs(slope - 2.0 / 3.0) <= 1e-15, "exporters: POV-Ray slope value at N.d = 1/2", slope, 2.0 / 3.0);
   std::printf("libbrdf %s\n", libbrdf::kVersion);
   return failures == 0 ? 0 : 1;
 }
