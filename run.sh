@@ -8,6 +8,8 @@
 #   --small     reduced sizes (coarser grids, smaller bakes and renders; what the test runs)
 #   --out DIR   report directory (default: out/report)
 #   --no-build  skip installing packages and building; use $BRDF_EXE (default build/cli/brdf)
+# Expected duration (stated when it starts): ~8 min on a fresh two-core machine (7m33s measured,
+# 5m13s of it installing and building); `--small --no-build` 2m16s-4m28s (shared machine).
 # Progress (numbered stages with elapsed times) goes to stderr; each stage's own output goes to
 # DIR/logs/. A failed stage does not stop the later ones (except install/build); the job exits 1
 # at the end naming every failed stage.
@@ -110,8 +112,9 @@ need_script() {
 
 stage_install() { "$root/scripts/install_deps.sh" --with-renderers; }
 # The Python module too: the report's scripts take their numbers from it (tools/report/brdfcli.py),
-# and building it here keeps it from lagging behind a rebuilt brdf.
-stage_build() { "$root/scripts/build.sh" "$root/build" brdf libbrdf_python; }
+# and building it here keeps it from lagging behind a rebuilt brdf. With the add-on's zip, the build
+# holds everything `cmake --install build` installs (the README's quickstart).
+stage_build() { "$root/scripts/build.sh" "$root/build" brdf libbrdf_python libbrdf_blender_addon; }
 stage_bake() {
   need_subcommand bake || return 1
   "$py" "$root/tools/report/bake_materials.py" --brdf "$brdf" --out "$out/bakes" "${small_flag[@]}"
@@ -149,6 +152,16 @@ stage_index() {
 mode="full size"
 ((small)) && mode="reduced size (--small)"
 printf 'libbrdf main job, %s -> %s\n' "$mode" "$out" >&2
+# Measured on two-core machines: a fresh full-size run took 7m33s, 5m13s of it installing and
+# building; `--small --no-build` took 2m16s and 4m28s on a shared machine (load 6 and 9).
+if ((build)); then
+  expected="~8 min on a fresh two-core machine (~5 min of it the install and build; less when build/ is up to date)"
+  ((small)) && expected="the install and build (~5 min when fresh) plus ~2-5 min"
+else
+  expected="~2.5 min on two cores"
+  ((small)) && expected="~2-5 min on two cores"
+fi
+printf 'expected duration: %s\n' "$expected" >&2
 if ((build)); then
   run_stage install "Install missing Debian packages (scripts/install_deps.sh --with-renderers)" stage_install ||
     { echo "run.sh: cannot continue without the packages" >&2; exit 1; }

@@ -2,7 +2,7 @@
 //   brdf albedo --model NAME [surface params as in eval] [--theta-i A,B,...] [--tolerance-albedo REL]
 // CSV: theta_i,albedo,lobe,specular,error_estimate -- albedo = lobe + specular, lobe the integral of
 // f cos ts over the hemisphere, specular R_spec (the spike), error_estimate the quadrature's own
-// (absolute). libbrdf/include/libbrdf/albedo.h says how; the README which models exceed 1 where.
+// (absolute). libbrdf/include/libbrdf/albedo.h says how; docs/reference.md which models exceed 1 where.
 #include <tbb/parallel_for.h>
 
 #include <cmath>

@@ -465,13 +465,21 @@ void write_csv(const std::vector<Row>& rows, const std::string& path) {
   std::filesystem::rename(temporary, path);
 }
 
+// LIBBRDF_ROOT's, else the source tree's, else the one `cmake --install` put beside this program
+// (PREFIX/bin/brdf -> PREFIX/share/libbrdf/tools/), so that an installed brdf outlives its clone.
 std::string plot_script() {
   if (const char* root = std::getenv("LIBBRDF_ROOT")) return std::string(root) + "/tools/plot_bench.py";
 #ifdef LIBBRDF_SOURCE_DIR
-  return std::string(LIBBRDF_SOURCE_DIR) + "/tools/plot_bench.py";
-#else
-  return "tools/plot_bench.py";
+  const std::string in_source = std::string(LIBBRDF_SOURCE_DIR) + "/tools/plot_bench.py";
+  if (std::filesystem::exists(in_source)) return in_source;
 #endif
+  std::error_code ignored;
+  const std::filesystem::path program = std::filesystem::read_symlink("/proc/self/exe", ignored);
+  if (!program.empty()) {
+    const auto installed = program.parent_path().parent_path() / "share/libbrdf/tools/plot_bench.py";
+    if (std::filesystem::exists(installed)) return installed.string();
+  }
+  return "tools/plot_bench.py";
 }
 
 // Runs /usr/bin/python3 SCRIPT CSV PNG (no shell); returns its exit status.

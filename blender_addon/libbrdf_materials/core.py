@@ -207,13 +207,16 @@ def cache_stem(request):
 
 
 def export_command(executable, request, directory):
-    """(argv, description_path) for the export of `request` into `directory`."""
+    """(argv, description_path) for the export of `request` into `directory` (executable None: the
+    in-process export; argv is then what `brdf` would have run)."""
     description = os.path.join(directory, cache_stem(request) + ".json")
-    return [executable] + export_arguments(request) + ["--output", description], description
+    return [executable or "brdf"] + export_arguments(request) + ["--output", description], description
 
 
 def find_brdf_executable(preference=""):
-    """The `brdf` program: the add-on preference, else $LIBBRDF_BRDF_EXE, else `brdf` on PATH."""
+    """How to bake: the `brdf` program of the add-on preference, else $LIBBRDF_BRDF_EXE, else None
+    when the libbrdf Python module can export in Blender's own process (the extension bundles it
+    as a wheel: in_process_exporter), else `brdf` on PATH."""
     for candidate in (preference, os.environ.get("LIBBRDF_BRDF_EXE", "")):
         if candidate:
             path = os.path.abspath(os.path.expanduser(candidate))
@@ -221,11 +224,42 @@ def find_brdf_executable(preference=""):
                 return path
             raise RequestError(f"brdf executable: {path!r} is not an executable file "
                                "(add-on preferences or LIBBRDF_BRDF_EXE)")
+    if in_process_exporter() is not None:
+        return None
     found = shutil.which("brdf")
     if not found:
         raise RequestError("brdf executable: not found; set it in the add-on preferences, "
-                           "LIBBRDF_BRDF_EXE, or put `brdf` on PATH")
+                           "LIBBRDF_BRDF_EXE, or put `brdf` on PATH (or install the extension with its libbrdf wheel)")
     return found
+
+
+def in_process_exporter():
+    """libbrdf.export_blender (the Python module's twin of `brdf export blender`), or None where
+    the module is not importable (the legacy add-on without the wheel)."""
+    try:
+        import libbrdf
+    except ImportError:
+        return None
+    return getattr(libbrdf, "export_blender", None)
+
+
+def export_keywords(request, description):
+    """libbrdf.export_blender's keywords for a validated request: the same values, rounded as
+    export_arguments rounds them, so that both ways bake the same table."""
+    keywords = {"model": request.model, "output": description, "sigma_s": float(_number(request.sigma_s)),
+                "lc": float(_number(request.lc)), "wavelength": [float(_number(w)) for w in request.wavelengths],
+                "mode": request.mode.lower(), "name": request.name}
+    if request.material:
+        keywords["material"] = request.material
+    else:
+        keywords.update(n=float(_number(request.n)), k=float(_number(request.k)))
+    if request.mode == "FIT":
+        keywords["target_error"] = float(_number(request.target_error))
+    elif request.resolution:
+        keywords["resolution"] = list(request.resolution)
+    if request.k_mode != "plane":
+        keywords["k_mode"] = request.k_mode
+    return keywords
 
 
 class ExportError(RuntimeError):
@@ -242,10 +276,17 @@ def run_export(executable, request, directory, reuse=True, timeout=600):
             return description
         except ExportError:
             pass  # incomplete or foreign: bake again
-    done = subprocess.run(argv, capture_output=True, text=True, timeout=timeout)
-    if done.returncode != 0:
-        lines = [line for line in done.stderr.splitlines() if line.strip()]
-        raise ExportError(lines[-1] if lines else f"brdf exited with status {done.returncode}")
+    if executable is None:  # in Blender's process, through the bundled libbrdf module
+        import libbrdf
+        try:
+            libbrdf.export_blender(**export_keywords(request, description))
+        except (libbrdf.InvalidArgument, OSError, RuntimeError) as e:
+            raise ExportError(f"libbrdf: error: {e}") from None
+    else:
+        done = subprocess.run(argv, capture_output=True, text=True, timeout=timeout)
+        if done.returncode != 0:
+            lines = [line for line in done.stderr.splitlines() if line.strip()]
+            raise ExportError(lines[-1] if lines else f"brdf exited with status {done.returncode}")
     check_outputs(load_description(description), description)
     return description
 

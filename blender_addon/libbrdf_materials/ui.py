@@ -22,7 +22,8 @@ class LIBBRDF_AddonPreferences(bpy.types.AddonPreferences):
         layout.prop(self, "brdf_executable")
         layout.prop(self, "cache_directory")
         try:
-            layout.label(text=f"Using: {core.find_brdf_executable(self.brdf_executable)}", icon="CHECKMARK")
+            executable = core.find_brdf_executable(self.brdf_executable)
+            layout.label(text=f"Using: {executable or 'the bundled libbrdf module (in process)'}", icon="CHECKMARK")
         except core.RequestError as e:
             layout.label(text=str(e), icon="ERROR")
 

@@ -1,6 +1,6 @@
 """The generated OSL shaders (`brdf export blender --mode osl`) compiled and run by real OSL.
 
-Debian has neither oslc nor testshade; `../shared/tools/build_osl.sh SNAPSHOT_GIT_DIR [PREFIX]` builds
+Debian has neither oslc nor testshade; `tools/osl/build_osl.sh SNAPSHOT_GIT_DIR [PREFIX]` builds
 both (OSL 1.13.9) from a snapshot of github:AcademySoftwareFoundation/OpenShadingLanguage. This test
 finds them through OSL_PREFIX (default: that script's prefix, ~/.cache/libbrdf-osl) and exits 77
 (ctest: skipped), saying so, where they are absent, as on CI; test_osl_shader.py checks the same
@@ -147,7 +147,7 @@ def main():
     missing = [name for name in ("oslc", "testshade") if not os.access(tool(name), os.X_OK)]
     if missing:
         print(f"SKIPPED: no {' or '.join(missing)} under OSL_PREFIX={PREFIX} (Debian has no OSL; build them with "
-              "../shared/tools/build_osl.sh SNAPSHOT_GIT_DIR PREFIX); test_osl_shader.py checks the shaders through its C++ shim")
+              "tools/osl/build_osl.sh SNAPSHOT_GIT_DIR PREFIX); test_osl_shader.py checks the shaders through its C++ shim")
         sys.exit(77)
     requests = osl_requests()
     with tempfile.TemporaryDirectory() as tmp:

@@ -16,7 +16,7 @@ set_tests_properties(blender_addon_core blender_nodegraph blender_osl_shader ble
 # 77: EEVEE found no OpenGL context (headless without EGL); reported as skipped, not passed.
 set_tests_properties(blender_render_eevee blender_fit_render_eevee PROPERTIES SKIP_RETURN_CODE 77)
 # The same OSL shaders compiled by real oslc and run by testshade (OSL 1.13.9, built by
-# ../shared/tools/build_osl.sh; found through OSL_PREFIX): skipped (exit 77) where absent, as on CI.
+# tools/osl/build_osl.sh; found through OSL_PREFIX): skipped (exit 77) where absent, as on CI.
 add_python_test(blender_osl_real blender/test_osl_real.py)
 # OSL_PREFIX comes from the environment ctest runs in.
 set_tests_properties(blender_osl_real PROPERTIES SKIP_RETURN_CODE 77 LABELS blender TIMEOUT 300)

@@ -43,6 +43,9 @@ def run_job():
     if job.returncode != 0:
         # The last line names every failed stage (and each failure printed its own line above).
         sys.exit(f"FAIL: run.sh --small exited {job.returncode}: {job.stderr.strip().splitlines()[-1:]}")
+    head = job.stderr.splitlines()[:2]
+    check(len(head) == 2 and re.match(r"expected duration: .*\d+(-\d+)? min", head[1]),
+          f"run.sh states its expected duration on its second line: {head}")
     for k in range(1, 13):
         check(f"[{k}/12]" in job.stderr, f"progress display lacks stage [{k}/12]")
     check(len(re.findall(r"ok in [0-9.]+ s|ok in [0-9]+m[0-9]{2}s", job.stderr)) == 10,

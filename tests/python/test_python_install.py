@@ -26,7 +26,12 @@ with tempfile.TemporaryDirectory() as prefix, tempfile.TemporaryDirectory() as e
     install = subprocess.run(["cmake", "--install", BUILD, "--component", "python", "--prefix", prefix],
                              capture_output=True, text=True)
     check(install.returncode == 0, f"cmake --install --component python: {install.stderr.strip()[-300:]}")
-    files = sorted(os.path.relpath(p, prefix) for p in glob.glob(os.path.join(prefix, "**", "*"), recursive=True)
+    # The package sits in the interpreter's layout under the prefix (lib/pythonX.Y/site-packages;
+    # at the root of a wheel): its parent goes on PYTHONPATH.
+    found = glob.glob(os.path.join(prefix, "**", "libbrdf", "__init__.py"), recursive=True)
+    check(len(found) == 1, f"one libbrdf package under the prefix: {found}")
+    site = os.path.dirname(os.path.dirname(found[0])) if found else prefix
+    files = sorted(os.path.relpath(p, site) for p in glob.glob(os.path.join(site, "**", "*"), recursive=True)
                    if os.path.isfile(p))
     expected_python = sorted(os.path.join("libbrdf", os.path.basename(p)) for p in glob.glob(os.path.join(ROOT, "python", "libbrdf", "*.py")))
     core = [f for f in files if f.startswith(os.path.join("libbrdf", "_core.")) and f.endswith(".so")]
@@ -40,14 +45,14 @@ with tempfile.TemporaryDirectory() as prefix, tempfile.TemporaryDirectory() as e
         " and all(hasattr(libbrdf, n) for n in libbrdf.__all__))\n"
         "print(libbrdf.Model.__module__, libbrdf.InvalidArgument.__module__)\n")
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
-    env["PYTHONPATH"] = prefix
+    env["PYTHONPATH"] = site
     run = subprocess.run([sys.executable, "-c", script], cwd=elsewhere, env=env, capture_output=True, text=True)
     check(run.returncode == 0, f"import libbrdf from the installed prefix: {run.stderr.strip()[-300:]}")
     lines = run.stdout.splitlines() if run.returncode == 0 else ["", "", "", ""]
     cli = subprocess.run([BRDF, "eval", "--model", "mbk", *SURFACE, "--at", "30,40,180"], capture_output=True, text=True, check=True)
     cli_value = float(cli.stdout.splitlines()[1].split(",")[3])
     check(lines[0] != "" and float(lines[0]) == cli_value, f"installed libbrdf.Model = brdf eval bit for bit: {lines[0]} vs {cli_value!r}")
-    check(lines[1].startswith(prefix), f"imported from the prefix, not a source or build tree: {lines[1]}")
+    check(lines[1].startswith(site), f"imported from the prefix, not a source or build tree: {lines[1]}")
     check(lines[2] == "True", "every public name of libbrdf._core is re-exported by libbrdf")
     check(lines[3] == "libbrdf libbrdf", f"the types report the package as their module: {lines[3]}")
 

@@ -2,7 +2,7 @@
 """Independent audit of `brdf bake --layout kernel` (issue 9's promise: max relative error <= 1e-3
 against the model, both polar angles <= 85 deg, <= 2 MB per 3-channel material).
 
-What it checks, per case (surfaces chosen to be hard and unlike README's table: polished with long
+What it checks, per case (surfaces chosen to be hard and unlike docs/performance.md's table: polished with long
 l_c, very rough, l_c/lambda < 1, metals with large kappa, n < 1 with k = 0, high index, all four ASF
 models mbk / mbk-fg / bk / bk-modified, --k-mode tis, 1 and 3 wavelengths):
   1. bakes a kernel-layout EXR (default: closed-form angular factor) under OUT_DIR and keeps the

@@ -42,7 +42,7 @@ quadrature), cli_inproc_with_setup_ns (evaluations plus set-up, best of the roun
 one process pays for the model at this many points, CSV I/O excluded) and speedup_inproc_with_setup
 (numpy / that). The in-process columns include each process's first touches of the kernel table
 (its pages and cache lines): a cost per process, not per point, so larger per point at fewer points
-(README, "Fast core").
+(docs/performance.md, "Fast core").
 `brdf eval` reads with std::from_chars and writes each number in its shortest exact digits
 (std::to_chars): ~0.55 us of I/O per query (was ~2.4 us with strtod/printf, ~0.62 us with %.17g
 digits, whose cost grew with the value's exponent), and the spread of the cancelled difference

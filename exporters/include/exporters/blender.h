@@ -105,7 +105,7 @@ SigmaImage sigma_image_layout();
 // at small g (z ~ 3-5; dz = 0.03: 3.8e-4), both measured on a dense series grid.
 // Blender roughness band where EEVEE 3.4's sun-lit GGX departs from analytic GGX (a white Glossy
 // sphere against GGX, median / 5th-percentile ratio 0.78 / 0.00 at 0.5, 0.81 / 0.06 at 0.6, 0.98 /
-// 0.49 at 0.75; 1.01 / 0.97 at 0.3, 1.04 / 0.97 at 1.0: README, tools/calibrate/eevee_ggx_span.py).
+// 0.49 at 0.75; 1.01 / 0.97 at 0.3, 1.04 / 0.97 at 1.0: docs/renderers.md, tools/calibrate/eevee_ggx_span.py).
 // EEVEE's FIT lobes stay out of it (fit::FitRequest::excluded_alpha_*), so that the error the fit
 // states is the one EEVEE renders.
 inline constexpr double kEeveeGgxBandLow = 0.375, kEeveeGgxBandHigh = 0.875;

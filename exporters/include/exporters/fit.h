@@ -106,7 +106,7 @@ struct FitRequest {
   // from the lobe (measured: FitQuality). Default: non-negative (NNLS).
   bool signed_colours = false;
   // GGX only: an open band (excluded_alpha_low, excluded_alpha_high) of alpha that the renderer does
-  // not render as GGX (EEVEE 3.4's LTC: Blender roughness 0.375-0.875, README); every lobe stays out
+  // not render as GGX (EEVEE 3.4's LTC: Blender roughness 0.375-0.875, docs/renderers.md); every lobe stays out
   // of it. Default: none.
   double excluded_alpha_low = 0.0, excluded_alpha_high = 0.0;
 };

@@ -1,7 +1,7 @@
 #pragma once
 // Scattering geometry of Butler, Nauyoks & Marciniak, Opt. Express 23, 29100 (2015).
 //
-// Conventions (shared/docs/conventions.md, "Angles and units"):
+// Conventions (docs/conventions.md, "Angles and units"):
 //   theta from the surface normal z; both directions point away from the surface;
 //   phi_i = 0; in-plane forward (specular) scatter is phi_s = pi, back-scatter phi_s = 0.
 //   Code works in radians; user-facing interfaces speak degrees.

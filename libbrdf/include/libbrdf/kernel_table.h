@@ -34,7 +34,7 @@
 // cells, 159468 points): max 2.71e-7 both, per decade of g the two within 1.5% of each other.
 // 8x fewer bytes than Hermite's paired nodes: a polished surface's band of the fine table
 // (sigma_s/lambda = 0.01: g < 0.016, z < 25, ~148 x 750 nodes) was ~7 MB and is now ~0.9 MB, and
-// the pages a process first touches go down as much (README, "Fast core").
+// the pages a process first touches go down as much (docs/performance.md, "Fast core").
 #include <cstddef>
 #include <cstdint>
 #include <vector>

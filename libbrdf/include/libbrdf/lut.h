@@ -200,11 +200,11 @@ class Lut {
 // for every channel -- ~5 cache lines where the planar `values` need 4 per channel. Values are
 // those of lookup_all_batch, bit for bit (every Highway target). Measured (bench/bench_lookup, 3
 // channels, 1e6 streaming queries, one CPU, against lookup_all_batch in the same run): MERL size
-// 1.37-1.42x faster, 90^3 1.02-1.04x, 48^3 0.98-1.00x (README "brdf bake"). The kernel layout's
+// 1.37-1.42x faster, 90^3 1.02-1.04x, 48^3 0.98-1.00x (docs/performance.md, "brdf bake"). The kernel layout's
 // P~ table (kernel_angular table) with 2 to 4 channels is interleaved too: a stencil row of every
 // channel is one run of floats (one vector of 16 floats on AVX-512 for RGB, where planar rows take
 // one vector of 4 per channel): 3-channel lookups 1.10-1.32x faster than lookup_all_batch in the
-// same run (README, stop 27). Other layouts and channel counts look up as lookup_all_batch does.
+// same run (docs/performance.md, stop 27). Other layouts and channel counts look up as lookup_all_batch does.
 // Holds its own copy of the table plus the interleaved nodes (as many floats as `values`); move a
 // Lut in to save one copy.
 class LutSampler {

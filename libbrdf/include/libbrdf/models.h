@@ -1,6 +1,6 @@
 #pragma once
 // Every model of the paper behind one interface: a named quantity evaluated at
-// (theta_i, theta_s, phi_s). Conventions: shared/docs/conventions.md (all BRDFs use Qbar).
+// (theta_i, theta_s, phi_s). Conventions: docs/conventions.md (all BRDFs use Qbar).
 //
 // BRDFs (1/sr):
 //   mbk           K(ti) Qbar A                        eq. 11 x Q, K of eq. 13
