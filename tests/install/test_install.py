@@ -10,7 +10,7 @@ Installs the build ($LIBBRDF_BUILD) into a fresh temporary prefix, then:
   ((n-1)^2+k^2)/((n+1)^2+k^2), the batch path against the scalar Fresnel function, and
   libbrdf::exporters' POV-Ray slope value against 1/2 + asin(N.d)/pi;
 - PREFIX/bin/brdf eval gives F(0) = ((n-1)^2+k^2)/((n+1)^2+k^2) for two indices;
-- the installed Python module (PREFIX/lib/python3.X/site-packages) imports from there and agrees.
+- the installed Python package (PREFIX/lib/python3.X/site-packages/libbrdf) imports from there and agrees.
 
 Usage: test_install.py [--cmake CMAKE]   (env LIBBRDF_BUILD, LIBBRDF_ROOT; CMAKE: the one that
 configured the build, for `--install`)
@@ -56,8 +56,8 @@ def main():
                      "share/libbrdf/povray/libbrdf.inc", "share/libbrdf/blender/libbrdf_materials.zip",
                      "share/libbrdf/tools/plot_bench.py"):
             check(os.path.isfile(os.path.join(prefix, path)), f"installed {path}")
-        modules = glob.glob(os.path.join(prefix, "lib", "python3.*", "site-packages", "libbrdf*.so"))
-        check(len(modules) == 1, f"one Python module under lib/python3.X/site-packages: {modules}")
+        modules = glob.glob(os.path.join(prefix, "lib", "python3.*", "site-packages", "libbrdf", "_core*.so"))
+        check(len(modules) == 1, f"the Python package libbrdf (its _core) under lib/python3.X/site-packages: {modules}")
 
         # A consumer project, as a user would build one: Debian's cmake, nothing but the prefix.
         consumer_build = os.path.join(tmp, "consumer-build")
@@ -88,7 +88,7 @@ def main():
 
         # The installed Python module, found through the prefix's site-packages alone.
         if modules:
-            site = os.path.dirname(modules[0])
+            site = os.path.dirname(os.path.dirname(modules[0]))
             code = ("import libbrdf, sys; print(libbrdf.__file__); "
                     "print(repr(float(libbrdf.Model('fresnel', n=0.5, k=2.0)(0.0, 0.0, 180.0))))")
             py = run(["/usr/bin/python3", "-c", code], env=dict(os.environ, PYTHONPATH=site), cwd=tmp)
