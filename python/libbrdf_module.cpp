@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "exporters/blender_export.h"
 #include "libbrdf/batch.h"
 #include "libbrdf/error.h"
 #include "libbrdf/lut.h"
@@ -333,6 +334,51 @@ libbrdf::Direction direction(const std::optional<std::array<double, 3>>& d, cons
 }
 
 // libbrdf.bake: the CLI's `brdf bake` without the file (Lut.save writes it).
+// wavelength=: one wavelength (a number) or one per channel (a sequence), um.
+std::vector<double> channel_wavelength_list(const py::object& wavelength) {
+  try {
+    return py::isinstance<py::sequence>(wavelength) || py::isinstance<py::array>(wavelength)
+               ? wavelength.cast<std::vector<double>>()
+               : std::vector<double>{wavelength.cast<double>()};
+  } catch (const py::cast_error&) {
+    throw py::type_error("wavelength: expected a number or a sequence of numbers (um)");
+  }
+}
+
+// resolution=: node counts per axis, each in [2, 4096], for a table of `axes` axes (1 beyond them).
+std::array<int, 3> node_counts(const std::vector<int>& resolution, std::size_t axes) {
+  if (resolution.size() != axes)
+    throw libbrdf::InvalidArgument("resolution", "expected " + std::to_string(axes) + " node counts");
+  std::array<int, 3> nodes{1, 1, 1};
+  for (std::size_t k = 0; k < axes; ++k) {
+    if (resolution[k] < 2 || resolution[k] > 4096)
+      throw libbrdf::InvalidArgument("resolution", "node counts per axis must be in [2, 4096] (got " +
+                                                       std::to_string(resolution[k]) + ")");
+    nodes[k] = resolution[k];
+  }
+  return nodes;
+}
+
+// libbrdf.export_blender: `brdf export blender` in this process, through the same export_material
+// (exporters/blender_export.h); the Blender extension bakes so, with no `brdf` program.
+std::vector<std::string> export_blender(const std::string& name, const std::string& output,
+                                        const std::vector<double>& wavelengths, const std::string& mode,
+                                        const std::optional<std::vector<int>>& resolution,
+                                        const std::optional<double>& target_error, const std::string& material_name,
+                                        const SurfaceKeywords& kw) {
+  const brdf_cli::ModelOptions o = kw.options(name, wavelengths);
+  libbrdf::blender::MaterialExportRequest request;
+  request.model = brdf_cli::parse_model_kind(o);
+  request.mode = mode;
+  request.output = output;
+  if (resolution) request.resolution = node_counts(*resolution, 3);
+  request.target_error = target_error;
+  request.name = material_name;
+  for (double w : brdf_cli::channel_wavelengths(o, {0.65, 0.55, 0.45})) request.channels.push_back(brdf_cli::model_parameters(o, w));
+  py::gil_scoped_release release;
+  return libbrdf::blender::export_material(request).written;
+}
+
 libbrdf::Lut bake(const std::string& name, const std::vector<double>& wavelengths, const std::string& layout,
                   const std::optional<std::vector<int>>& resolution, const std::optional<double>& target_error,
                   const std::optional<std::array<double, 3>>& light, const std::optional<std::array<double, 3>>& view,
@@ -348,19 +394,7 @@ libbrdf::Lut bake(const std::string& name, const std::vector<double>& wavelength
   } else if (light || view) {
     throw libbrdf::InvalidArgument(light ? "light" : "view", "only used by layout slice");
   }
-  if (resolution) {
-    const std::size_t axes = slice ? 2 : 3;
-    if (resolution->size() != axes)
-      throw libbrdf::InvalidArgument("resolution", "expected " + std::to_string(axes) + " node counts");
-    std::array<int, 3> nodes{1, 1, 1};
-    for (std::size_t k = 0; k < axes; ++k) {
-      if ((*resolution)[k] < 2 || (*resolution)[k] > 4096)
-        throw libbrdf::InvalidArgument("resolution", "node counts per axis must be in [2, 4096] (got " +
-                                                         std::to_string((*resolution)[k]) + ")");
-      nodes[k] = (*resolution)[k];
-    }
-    request.resolution = nodes;
-  }
+  if (resolution) request.resolution = node_counts(*resolution, slice ? 2 : 3);
   request.target_error = target_error;
   request.error_samples = error_samples;
   request.error_floor_fraction = error_floor;
@@ -556,16 +590,8 @@ Out-of-domain values raise libbrdf.InvalidArgument (a ValueError) naming the par
            std::optional<double> rho_s, std::optional<double> rho_d, std::optional<std::string> g_term, std::string k_mode,
            std::optional<std::string> sigma_g_mapping, double tolerance) {
           SurfaceKeywords kw{sigma_s, lc, n, k, sigma_g, rho_s, rho_d, material, g_term, k_mode, sigma_g_mapping, tolerance};
-          // One wavelength (a number) or one per channel (a sequence).
-          std::vector<double> wavelengths;
-          try {
-            wavelengths = py::isinstance<py::sequence>(wavelength) || py::isinstance<py::array>(wavelength)
-                              ? wavelength.cast<std::vector<double>>()
-                              : std::vector<double>{wavelength.cast<double>()};
-          } catch (const py::cast_error&) {
-            throw py::type_error("wavelength: expected a number or a sequence of numbers (um)");
-          }
-          return bake(name, wavelengths, layout, resolution, target_error, light, view, error_samples, error_floor, seed, kw);
+          return bake(name, channel_wavelength_list(wavelength), layout, resolution, target_error, light, view, error_samples,
+                      error_floor, seed, kw);
         },
         py::arg("name"), py::kw_only(), py::arg("wavelength") = py::make_tuple(0.65, 0.55, 0.45),
         py::arg("layout") = "rusinkiewicz", py::arg("resolution") = py::none(), py::arg("target_error") = py::none(),
@@ -581,6 +607,30 @@ resolution: nodes per axis, or target_error: the smallest table whose measured m
 meets it. Returns a Lut; lut.error holds the measured error. Ctrl-C cancels.
 )doc");
 
+  m.def("export_blender",
+        [](const std::string& name, const std::string& output, py::object wavelength, const std::string& mode,
+           std::optional<std::vector<int>> resolution, std::optional<double> target_error, const std::string& material_name,
+           std::optional<double> sigma_s, std::optional<double> lc, std::optional<double> n, std::optional<double> k,
+           std::optional<std::string> material, std::optional<double> sigma_g, std::optional<double> rho_s,
+           std::optional<double> rho_d, std::optional<std::string> g_term, std::string k_mode,
+           std::optional<std::string> sigma_g_mapping) {
+          SurfaceKeywords kw{sigma_s, lc, n, k, sigma_g, rho_s, rho_d, material, g_term, k_mode, sigma_g_mapping, 1e-6};
+          return export_blender(name, output, channel_wavelength_list(wavelength), mode, resolution, target_error,
+                                material_name, kw);
+        },
+        py::arg("model"), py::arg("output"), py::kw_only(), py::arg("wavelength") = py::make_tuple(0.65, 0.55, 0.45),
+        py::arg("mode") = "lut", py::arg("resolution") = py::none(), py::arg("target_error") = py::none(),
+        py::arg("name") = "", py::arg("sigma_s") = py::none(), py::arg("lc") = py::none(), py::arg("n") = py::none(),
+        py::arg("k") = py::none(), py::arg("material") = py::none(), py::arg("sigma_g") = py::none(),
+        py::arg("rho_s") = py::none(), py::arg("rho_d") = py::none(), py::arg("g_term") = py::none(),
+        py::arg("k_mode") = "plane", py::arg("sigma_g_mapping") = py::none(),
+        R"doc(
+A material for the Blender add-on, as `brdf export blender` writes it (the same files, bit for bit):
+output DIR/NAME.json (DIR created), mode lut | osl | fit, wavelength one or three (R, G, B),
+resolution (3 node counts) or target_error, the surface keywords of Model. Returns the paths written.
+)doc");
+
   check_keywords_first(m.attr("Model"), "__init__", "Model", /*is_method=*/true);
+  check_keywords_first(m, "export_blender", "export_blender", /*is_method=*/false);
   check_keywords_first(m, "bake", "bake", /*is_method=*/false);
 }

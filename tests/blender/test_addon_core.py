@@ -286,6 +286,35 @@ def test_energy_statement(tmp):
         check(str(e).startswith("k_mode:"), f"bad k_mode named: {e}")
 
 
+def test_in_process_export(tmp):
+    """The extension's way to bake (libbrdf.export_blender in Blender's process, core.run_export with
+    no executable) writes the same files, byte for byte, as `brdf export blender` (fresh folders)."""
+    build = os.environ.get("LIBBRDF_BUILD", os.path.join(ROOT, "build"))
+    sys.path.insert(0, os.path.join(build, "python"))
+    try:
+        import libbrdf  # noqa: F401
+    except ImportError as e:
+        check(False, f"the libbrdf Python package imports from {build}/python ({e})")
+        return
+    check(core.in_process_exporter() is not None, "libbrdf.export_blender found: the add-on can bake in process")
+    for request in (core.MaterialRequest(model="mbk", material="Au", sigma_s=0.1, lc=2.0, mode="OSL", resolution=(16, 12, 8)),
+                    core.MaterialRequest(model="microfacet", material="Cu", sigma_s=0.1, lc=2.0, mode="LUT",
+                                         resolution=(16, 12, 8)),
+                    core.MaterialRequest(model="bk", n=1.5, k=0.0, sigma_s=0.2, lc=2.0, mode="FIT")):
+        request = request.validated()
+        listings = []
+        for way, executable in (("cli", BRDF), ("in_process", None)):
+            folder = os.path.join(tmp, f"{way}_{request.model}_{request.mode}")
+            description = core.run_export(executable, request, folder, reuse=False)
+            files = sorted(os.listdir(folder))
+            listings.append({name: open(os.path.join(folder, name), "rb").read() for name in files
+                             if not name.endswith(".osl")})  # the .osl names its folder
+            check(os.path.basename(description) in files, f"{way}: {request.model} {request.mode} wrote {files}")
+        check(listings[0] == listings[1] and listings[0],
+              f"{request.model} {request.mode}: in process and brdf export blender write the same bytes "
+              f"({sorted(listings[0])})")
+
+
 def main():
     test_package_without_bpy()
     test_validation()
@@ -296,6 +325,7 @@ def main():
         test_export_and_cache(tmp)
         test_cli_contract(tmp)
         test_energy_statement(tmp)
+        test_in_process_export(tmp)
     checks.finish("add-on core checks passed")
 
 
