@@ -288,6 +288,8 @@ def main():
             "materials": materials,
             "blender": bpy.app.version_string,
             "addon_file": sys.modules[module].__file__,
+            # How the add-on baked: in Blender's process (the extension's bundled libbrdf wheel) or `brdf`.
+            "baked_in_process": sys.modules[module].core.find_brdf_executable("") is None,
         })
     with open(job["results"], "w", encoding="utf-8") as f:
         json.dump(results, f, indent=2)

@@ -114,7 +114,7 @@ def blender_command(blender, script, *arguments):
     return [blender, "-b", "--factory-startup", "--python-exit-code", "1", "--python", script, "--", *arguments]
 
 
-def run_blender_job(tmp, renders, blender, brdf, root, addon_zip, eevee_hint=""):
+def run_blender_job(tmp, renders, blender, brdf, root, addon_zip, eevee_hint="", brdf_for_addon=True):
     """Runs tools/blender_render_job.py in a headless Blender (factory settings, the add-on
     installed from its zip into a private user-scripts folder) on `renders`. Returns the results
     list; exits 77 (skip) when EEVEE has no OpenGL context (`eevee_hint`: the job uses EEVEE) and
@@ -133,7 +133,11 @@ def run_blender_job(tmp, renders, blender, brdf, root, addon_zip, eevee_hint="")
     job_path = os.path.join(tmp, "job.json")
     with open(job_path, "w", encoding="utf-8") as f:
         json.dump(job, f, indent=1)
-    env = dict(os.environ, LIBBRDF_BRDF_EXE=os.path.abspath(brdf) if os.path.sep in brdf else shutil.which(brdf),
+    # brdf_for_addon False: the add-on gets no `brdf` program (it must bake in process: extension + wheel).
+    env = {k: v for k, v in os.environ.items() if brdf_for_addon or k != "LIBBRDF_BRDF_EXE"}
+    if brdf_for_addon:
+        env["LIBBRDF_BRDF_EXE"] = os.path.abspath(brdf) if os.path.sep in brdf else shutil.which(brdf)
+    env = dict(env,
                BLENDER_USER_SCRIPTS=os.path.join(tmp, "user_scripts"), BLENDER_USER_CONFIG=os.path.join(tmp, "user_config"),
                BLENDER_USER_EXTENSIONS=os.path.join(tmp, "user_extensions"),
                TMPDIR=tmp, XDG_CACHE_HOME=os.path.join(tmp, "cache"))

@@ -120,10 +120,12 @@ def run(args, program, tmp):
                 "objects": [{"shape": "sphere", "rotation_deg": rotation, "material": dict(material, mode=mode)}]})
             scenes.append((index, mode, material))
     package = (lambda folder: {"extension": extension_zip(folder, args.wheel)}) if args.extension else addon_zip
-    results = render_check.run_blender_job(tmp, renders, program, BRDF, ROOT, package)
+    results = render_check.run_blender_job(tmp, renders, program, BRDF, ROOT, package, brdf_for_addon=not args.wheel)
     if args.extension:
         check(all("user_extensions" in r["addon_file"] for r in results),
               f"installed as an extension into the user repository ({results[0]['addon_file']})")
+    if args.wheel:  # no brdf program given: the bundled libbrdf module baked in Blender's process
+        check(all(r["baked_in_process"] for r in results), "baked in Blender's process by the bundled libbrdf wheel")
     print(f"     Blender {results[0]['blender']}, seed {args.seed}, {args.scenes} scenes, modes {args.modes}")
     for render, result, (index, mode, material) in zip(renders, results, scenes):
         passes = render_check.read_passes(render["output"])

@@ -45,3 +45,7 @@ foreach(version 4.5 5.0)
   add_python_test(blender_extension_${tag} blender/test_blender_random.py --blender ${version} --extension --scenes 2)
   set_tests_properties(blender_extension_${tag} PROPERTIES LABELS blender TIMEOUT 900 SKIP_RETURN_CODE 77)
 endforeach()
+# The extension with the libbrdf wheel bundled: baked in Blender's process (no brdf program), in 4.5
+# and 5.0. Builds the wheel first (a second CMake build of the Python target: minutes).
+add_python_test(blender_extension_wheel blender/test_blender_extension_wheel.py --blenders 4.5,5.0 --scenes 2)
+set_tests_properties(blender_extension_wheel PROPERTIES LABELS blender TIMEOUT 2400 SKIP_RETURN_CODE 77)
