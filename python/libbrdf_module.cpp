@@ -12,8 +12,8 @@
 // NaN included; TypeError for arrays of the wrong dtype or shape; libbrdf.LutFileError (an
 // OSError) for unreadable or foreign table files.
 //
-// Model parameters go through the CLI's own option mapping (cli/model_options.cpp, compiled in
-// here) so that every keyword means exactly what the `brdf` option of the same name means.
+// Model parameters go through libbrdf's option mapping (libbrdf/model_settings.h), the CLI's too,
+// so that every keyword means exactly what the `brdf` option of the same name means.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -21,7 +21,6 @@
 #include <array>
 #include <atomic>
 #include <cmath>
-#include <cstdio>
 #include <optional>
 #include <string>
 #include <vector>
@@ -30,9 +29,9 @@
 #include "libbrdf/error.h"
 #include "libbrdf/lut.h"
 #include "libbrdf/materials.h"
+#include "libbrdf/model_settings.h"
 #include "libbrdf/models.h"
 #include "libbrdf/version.h"
-#include "model_options.h"
 
 namespace py = pybind11;
 
@@ -40,7 +39,7 @@ namespace {
 
 using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
-// Surface and material keywords shared by Model and bake, as the CLI's ModelOptions.
+// Surface and material keywords shared by Model and bake (libbrdf::ModelSettings).
 struct SurfaceKeywords {
   std::optional<double> sigma_s, lc, n, k, sigma_g, rho_s, rho_d;  // None: not given (an error where unread)
   std::optional<std::string> material, g_term;
@@ -48,28 +47,22 @@ struct SurfaceKeywords {
   std::optional<std::string> sigma_g_mapping;
   double tolerance = 1e-6;
 
-  brdf_cli::ModelOptions options(const std::string& name, const std::vector<double>& wavelengths) const {
-    brdf_cli::ModelOptions o;
-    o.model = name;
-    o.sigma_s_um = sigma_s;
-    o.lc_um = lc;
-    o.n = n;
-    o.kappa = k;
-    o.sigma_g = sigma_g;
-    o.rho_s = rho_s;
-    o.rho_d = rho_d;
-    // The CLI's --wavelength text: %.17g round-trips every double exactly (NaN/inf stay errors).
-    for (double w : wavelengths) {
-      char text[40];
-      std::snprintf(text, sizeof text, "%.17g", w);
-      o.wavelengths += (o.wavelengths.empty() ? "" : ",") + std::string(text);
-    }
-    o.material = material.value_or("");
-    o.g_term = g_term;
-    o.k_mode = k_mode;
-    o.sigma_g_mapping = sigma_g_mapping;
-    o.tolerance = tolerance;
-    return o;
+  libbrdf::ModelSettings settings(const std::string& name) const {
+    libbrdf::ModelSettings s;
+    s.model = name;
+    s.sigma_s_um = sigma_s;
+    s.lc_um = lc;
+    s.n = n;
+    s.kappa = k;
+    s.sigma_g = sigma_g;
+    s.rho_s = rho_s;
+    s.rho_d = rho_d;
+    s.material = material.value_or("");
+    s.g_term = g_term;
+    s.k_mode = k_mode;
+    s.sigma_g_mapping = sigma_g_mapping;
+    s.tolerance = tolerance;
+    return s;
   }
 };
 
@@ -192,9 +185,8 @@ struct PyModel {
 };
 
 PyModel make_model(const std::string& name, double wavelength, const SurfaceKeywords& kw) {
-  const brdf_cli::ModelOptions o = kw.options(name, {wavelength});
-  const std::vector<double> wavelengths = brdf_cli::channel_wavelengths(o, {0.55});
-  return PyModel{name, wavelengths[0], libbrdf::Model(brdf_cli::parse_model_kind(o), brdf_cli::model_parameters(o, wavelengths[0]))};
+  const libbrdf::ModelSettings settings = kw.settings(name);
+  return PyModel{name, wavelength, libbrdf::Model(libbrdf::model_from_name(name), libbrdf::model_parameters(settings, wavelength))};
 }
 
 py::object evaluate_directions(const PyModel& m, py::handle to_light, py::handle to_view) {
@@ -266,9 +258,9 @@ libbrdf::Lut bake(const std::string& name, const std::vector<double>& wavelength
                   const std::optional<std::vector<int>>& resolution, const std::optional<double>& target_error,
                   const std::optional<std::array<double, 3>>& light, const std::optional<std::array<double, 3>>& view,
                   int error_samples, double error_floor, std::uint64_t seed, const SurfaceKeywords& kw) {
-  const brdf_cli::ModelOptions o = kw.options(name, wavelengths);
+  const libbrdf::ModelSettings settings = kw.settings(name);
   libbrdf::BakeRequest request;
-  request.model = brdf_cli::parse_model_kind(o);
+  request.model = libbrdf::model_from_name(name);
   request.layout = libbrdf::layout_from_name(layout);
   const bool slice = request.layout == libbrdf::LutLayout::slice;
   if (slice) {
@@ -294,7 +286,7 @@ libbrdf::Lut bake(const std::string& name, const std::vector<double>& wavelength
   request.error_samples = error_samples;
   request.error_floor_fraction = error_floor;
   request.seed = seed;
-  for (double w : brdf_cli::channel_wavelengths(o, {0.65, 0.55, 0.45})) request.channels.push_back(brdf_cli::model_parameters(o, w));
+  request.channels = libbrdf::channel_parameters(settings, wavelengths);
 
   // Ctrl-C: the progress callback (calling thread) looks for a pending KeyboardInterrupt.
   std::atomic<bool> cancel{false};
@@ -322,6 +314,32 @@ py::array_t<float> lut_values(const libbrdf::Lut& lut, py::handle owner) {
   py::array_t<float> view(shape, lut.values.data(), owner);
   view.attr("setflags")(py::arg("write") = false);
   return view;
+}
+
+// A model's registry row (model_registry.h) as a dict; options in Python's spelling.
+py::dict model_info(const std::string& name) {
+  const libbrdf::ModelTraits& row = libbrdf::model_traits(libbrdf::model_from_name(name));
+  py::list options, inputs, factors;
+  for (libbrdf::ModelOption o : {libbrdf::kRhoS, libbrdf::kRhoD, libbrdf::kSigmaG, libbrdf::kGTerm, libbrdf::kSigmaGMapping})
+    if (row.reads(o)) options.append(python_name(std::string(libbrdf::option_name(o))));
+  for (const auto& [input, text] : {std::pair{libbrdf::kSigmaS, "sigma_s"}, std::pair{libbrdf::kLc, "lc"}, std::pair{libbrdf::kIndex, "n"}})
+    if (row.needs(input)) inputs.append(text);
+  for (const auto& [factor, text] : {std::pair{libbrdf::kFactorK, "K"}, std::pair{libbrdf::kFactorQBar, "Qbar"},
+                                     std::pair{libbrdf::kFactorFresnelD, "F(theta_d)"}, std::pair{libbrdf::kFactorAsf, "A"}})
+    if (row.multiplies(factor)) factors.append(text);
+  const char* albedo[] = {"none", "surface lobe", "facet lobe"};
+  py::dict d;
+  d["name"] = std::string(row.name);
+  d["formula"] = std::string(row.formula);
+  d["equation"] = std::string(row.equation);
+  d["brdf"] = row.is_brdf();
+  d["inputs"] = inputs;
+  d["options"] = options;
+  d["factors"] = factors;
+  d["spike"] = row.spike;
+  d["asf_based"] = row.asf_based;
+  d["albedo"] = albedo[static_cast<int>(row.albedo)];
+  return d;
 }
 
 bool ends_with(const std::string& text, const std::string& suffix) {
@@ -362,6 +380,9 @@ PYBIND11_MODULE(libbrdf, m) {
     for (auto kind : libbrdf::all_models()) names.emplace_back(libbrdf::model_name(kind));
     return names;
   }, "Every quantity `Model` (and `brdf eval --model`) accepts, in the CLI's order.");
+  m.def("model_info", &model_info, py::arg("name"),
+        "A model's row of libbrdf's registry: formula, equation, brdf, inputs it requires, options it reads, "
+        "factors, spike, asf_based, albedo path.");
   m.def("materials", [] {
     py::dict d;
     for (const auto& info : libbrdf::builtin_materials())

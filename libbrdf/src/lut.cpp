@@ -326,8 +326,9 @@ void LutSampler::lookup_all(const ScatterGeometry* geometries, std::size_t count
 }
 
 bool detail::kernel_angular_all_closed(ModelKind model, KernelAngular angular) {
-  return model == ModelKind::bk || model == ModelKind::bk_modified ||
-         ((model == ModelKind::mbk || model == ModelKind::mbk_fg) && angular == KernelAngular::closed_form);
+  // An ASF model's P is all closed form where its row has one (bk, bk-modified), or when asked for.
+  const ModelTraits& row = model_traits(model);
+  return row.asf_based && (row.closed_angular != ClosedAngularForm::none || angular == KernelAngular::closed_form);
 }
 
 void detail::kernel_closed_form_span(const Lut& lut, int first_channel, int channel_count, const ScatterGeometry* geos,

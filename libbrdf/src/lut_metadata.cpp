@@ -238,9 +238,7 @@ void restore_from_metadata(Lut& lut, const std::map<std::string, std::string>& m
     } catch (const InvalidArgument&) {
       fail("unknown model '" + message_excerpt(get("model")) + "'");
     }
-    if (!(lut.kernel_model == ModelKind::mbk || lut.kernel_model == ModelKind::mbk_fg || lut.kernel_model == ModelKind::bk ||
-          lut.kernel_model == ModelKind::bk_modified))
-      fail("layout kernel holds an ASF model (mbk, mbk-fg, bk, bk-modified)");
+    if (!model_traits(lut.kernel_model).asf_based) fail("layout kernel holds an ASF model (" + asf_model_names() + ")");
     const auto angular = m.find("kernel_angular");  // absent in files before the closed form: table
     if (angular == m.end() || angular->second == "table") lut.kernel_angular = KernelAngular::table;
     else if (angular->second == "closed-form") lut.kernel_angular = KernelAngular::closed_form;
