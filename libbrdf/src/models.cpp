@@ -224,6 +224,7 @@ void Model::combine_span(const ScatterGeometry* geos, std::size_t count, const F
     case ModelKind::bk_modified:  // F(td) (1/S) A, eq. 28
       return each([&](std::size_t j) { return f.fresnel_d[j] * inverse_s_term_eq28(geos[j]) * f.asf[j]; });
     case ModelKind::microfacet: return facet_lobe(f.fresnel_d);  // eqs 2, 3, 7
+    case ModelKind::microfacet_q: return facet_lobe(f.q_bar);    // Stover's Qbar = Q/2 in place of F
   }
 }
 

@@ -13,7 +13,7 @@ namespace libbrdf {
 // In the rows' order (checked below).
 enum class ModelKind {
   fresnel, q, q_ss, q_sp, q_ps, q_pp, s, rd, g, eta_r2, asf, k, r_spec,
-  mbk, mbk_polished, mbk_rough, mbk_fg, bk, bk_modified, microfacet
+  mbk, mbk_polished, mbk_rough, mbk_fg, bk, bk_modified, microfacet, microfacet_q
 };
 
 // Bit sets of a row. Inputs: surface values a model requires (missing: InvalidArgument naming the
@@ -97,6 +97,9 @@ inline constexpr ModelTraits kModelRegistry[] = {
    detail::bits(kFactorFresnelD, kFactorAsf), true, true, AlbedoPath::surface_lobe, ClosedAngularForm::bk_modified_eq28},
   {ModelKind::microfacet, "microfacet", "rho_s F(td) D_g G / (4 ci cs) + rho_d / pi", "eqs 2, 3, 7", detail::kSurface,
    detail::kFacetOptions, detail::bits(kFactorK, kFactorFresnelD), false, false, AlbedoPath::facet_lobe},
+  // The paper's suggestion after eq. 22 (2F/Q ~ S): "Q/2 could be used in place of F".
+  {ModelKind::microfacet_q, "microfacet-q", "rho_s Qbar D_g G / (4 ci cs) + rho_d / pi", "eqs 2, 3, 7 with Q/2 for F (sec. 3.1)",
+   detail::kSurface, detail::kFacetOptions, detail::bits(kFactorK, kFactorQBar), false, false, AlbedoPath::facet_lobe},
 };
 // clang-format on
 
