@@ -316,6 +316,15 @@ py::array_t<float> lut_values(const libbrdf::Lut& lut, py::handle owner) {
   return view;
 }
 
+const char* albedo_path_name(libbrdf::AlbedoPath path) {
+  switch (path) {
+    case libbrdf::AlbedoPath::none: return "none";
+    case libbrdf::AlbedoPath::surface_lobe: return "surface lobe";
+    case libbrdf::AlbedoPath::facet_lobe: return "facet lobe";
+  }
+  return "?";
+}
+
 // A model's registry row (model_registry.h) as a dict; options in Python's spelling.
 py::dict model_info(const std::string& name) {
   const libbrdf::ModelTraits& row = libbrdf::model_traits(libbrdf::model_from_name(name));
@@ -327,7 +336,6 @@ py::dict model_info(const std::string& name) {
   for (const auto& [factor, text] : {std::pair{libbrdf::kFactorK, "K"}, std::pair{libbrdf::kFactorQBar, "Qbar"},
                                      std::pair{libbrdf::kFactorFresnelD, "F(theta_d)"}, std::pair{libbrdf::kFactorAsf, "A"}})
     if (row.multiplies(factor)) factors.append(text);
-  const char* albedo[] = {"none", "surface lobe", "facet lobe"};
   py::dict d;
   d["name"] = std::string(row.name);
   d["formula"] = std::string(row.formula);
@@ -338,7 +346,7 @@ py::dict model_info(const std::string& name) {
   d["factors"] = factors;
   d["spike"] = row.spike;
   d["asf_based"] = row.asf_based;
-  d["albedo"] = albedo[static_cast<int>(row.albedo)];
+  d["albedo"] = albedo_path_name(row.albedo);
   return d;
 }
 
@@ -346,12 +354,10 @@ bool ends_with(const std::string& text, const std::string& suffix) {
   return text.size() >= suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-}  // namespace
+// --- The module's parts -------------------------------------------------------------------------
 
-PYBIND11_MODULE(libbrdf, m) {
-  m.doc() = "libbrdf: MBK, Beckmann-Kirchhoff and microfacet BRDFs (Butler, Nauyoks & Marciniak 2015) on numpy arrays";
-  m.attr("__version__") = libbrdf::kVersion;
-
+// libbrdf.InvalidArgument and libbrdf.LutFileError, and the translation of libbrdf's exceptions.
+void register_exceptions(py::module_& m) {
   // InvalidArgument -> libbrdf.InvalidArgument(ValueError) with .parameter (Python spelling), .index.
   // Handles, not objects: a static py::object would be released after the interpreter is gone
   // (the module attributes keep the types alive).
@@ -374,7 +380,10 @@ PYBIND11_MODULE(libbrdf, m) {
       PyErr_SetString(lut_file_error.ptr(), e.what());
     }
   });
+}
 
+// model_names, model_info, materials: what there is to choose from.
+void define_catalogue(py::module_& m) {
   m.def("model_names", [] {
     std::vector<std::string> names;
     for (auto kind : libbrdf::all_models()) names.emplace_back(libbrdf::model_name(kind));
@@ -390,7 +399,9 @@ PYBIND11_MODULE(libbrdf, m) {
                                        py::arg("wavelength_range_um") = py::make_tuple(info.min_wavelength_um, info.max_wavelength_um));
     return d;
   }, "Built-in materials (name -> description, source, tabulated wavelength range in um).");
+}
 
+void define_model_class(py::module_& m) {
   py::class_<PyModel>(m, "Model", R"doc(
 A model (a named quantity of `brdf eval --model`) of one surface at one wavelength.
 
@@ -447,7 +458,9 @@ Out-of-domain values raise libbrdf.InvalidArgument (a ValueError) naming the par
       .def("__repr__", [](const PyModel& self) {
         return "libbrdf.Model('" + self.name + "', wavelength=" + py::str(py::float_(self.wavelength)).cast<std::string>() + ")";
       });
+}
 
+void define_lut_classes(py::module_& m) {
   py::class_<libbrdf::Lut>(m, "Lut", "A baked table (libbrdf.bake or Lut.open): lookups on arrays, its measured error, its values.")
       .def_static("open", [](const std::string& path) {
         py::gil_scoped_release release;
@@ -499,7 +512,9 @@ Out-of-domain values raise libbrdf.InvalidArgument (a ValueError) naming the par
         return "libbrdf.LutSampler(" + std::string(libbrdf::layout_name(self.lut().layout)) + " " +
                libbrdf::shape_text(self.lut().shape, self.lut().layout) + ", " + std::to_string(self.lut().channels()) + " channel(s))";
       });
+}
 
+void define_bake(py::module_& m) {
   m.def("bake",
         [](const std::string& name, py::object wavelength, const std::string& layout, std::optional<std::vector<int>> resolution,
            std::optional<double> target_error, std::optional<std::array<double, 3>> light, std::optional<std::array<double, 3>> view,
@@ -532,4 +547,16 @@ default (0.65, 0.55, 0.45)). layout: rusinkiewicz | merl | slice (light=, view= 
 resolution: nodes per axis, or target_error: the smallest table whose measured max relative error
 meets it. Returns a Lut; lut.error holds the measured error. Ctrl-C cancels.
 )doc");
+}
+
+}  // namespace
+
+PYBIND11_MODULE(libbrdf, m) {
+  m.doc() = "libbrdf: MBK, Beckmann-Kirchhoff and microfacet BRDFs (Butler, Nauyoks & Marciniak 2015) on numpy arrays";
+  m.attr("__version__") = libbrdf::kVersion;
+  register_exceptions(m);
+  define_catalogue(m);
+  define_model_class(m);
+  define_lut_classes(m);
+  define_bake(m);
 }
