@@ -3,8 +3,9 @@
 
 For every model both executables know (`brdf eval --model` lists them when given an unknown name),
 on each surface below: `brdf eval` at --points seeded random queries (theta_i, theta_s uniform in
-[0, 89.9] deg, phi_s in [0, 360)), and for every BRDF a small baked table (rusinkiewicz 12x12x12,
-and the kernel layout for the models it accepts); the md5 of each output (CSV, or the .exr file),
+[0, 89.9] deg, phi_s in [0, 360)), and for every BRDF small baked tables (rusinkiewicz 12x12x12;
+for the models the kernel layout accepts, its closed-form and table forms) and their lookups at the
+same queries (`brdf eval --lut`); the md5 of each output (CSV; the .exr file and the lookups),
 or the error message where both refuse (a refusal worded otherwise is listed, not a failure).
 Prints one line per run and a summary; exit 1 when any output differs.
 
@@ -47,15 +48,17 @@ def digest(brdf, args):
     return False, proc.stderr.decode(errors="replace").strip()
 
 
-def bake_digest(brdf, args, directory):
+def bake_digest(brdf, args, directory, query_file):
+    """md5 of the baked file and of `brdf eval --lut` (channel 0) at the queries."""
     path = os.path.join(directory, "table.exr")
     if os.path.exists(path):
         os.unlink(path)
     ok, text = digest(brdf, ["bake"] + args + ["-o", path])
     if not ok:
         return False, text
+    ok, lookups = digest(brdf, ["eval", "--lut", path, "--queries", query_file])
     with open(path, "rb") as f:
-        return True, hashlib.md5(f.read()).hexdigest()
+        return True, hashlib.md5(f.read()).hexdigest()[:16] + "+" + (lookups[:15] if ok else "lookup refused")
 
 
 def main():
@@ -86,11 +89,15 @@ def main():
                 if not a.no_bake and surface not in EVAL_ONLY:
                     jobs.append(("bake rusinkiewicz", ["--model", model] + params +
                                  ["--resolution", "12,12,12", "--error-samples", "2000"], True))
-                    jobs.append(("bake kernel", ["--model", model] + params +
+                    jobs.append(("bake kernel closed", ["--model", model] + params +
                                  ["--layout", "kernel", "--resolution", "8,8,8", "--error-samples", "1000"], True))
+                    jobs.append(("bake kernel table", ["--model", model] + params +
+                                 ["--layout", "kernel", "--kernel-angular", "table", "--resolution", "8,8,8",
+                                  "--error-samples", "1000"], True))
                 for label, args, is_bake in jobs:
                     if is_bake:
-                        (ok_r, h_r), (ok_c, h_c) = bake_digest(a.reference, args, d), bake_digest(a.candidate, args, d)
+                        (ok_r, h_r), (ok_c, h_c) = (bake_digest(a.reference, args, d, query_file),
+                                                    bake_digest(a.candidate, args, d, query_file))
                     else:
                         (ok_r, h_r), (ok_c, h_c) = digest(a.reference, args), digest(a.candidate, args)
                     same = ok_r == ok_c and h_r == h_c
