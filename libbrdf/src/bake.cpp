@@ -288,7 +288,7 @@ Lut bake_table(const BakeRequest& r, const std::vector<Model>& models, const std
   if (lut.layout == LutLayout::kernel) {
     lut.kernel_model = r.model;
     lut.kernel_angular = r.kernel_angular;
-    const bool fg_closed = r.model == ModelKind::mbk_fg && r.kernel_angular == KernelAngular::closed_form;
+    const bool fg_closed = detail::kernel_closed_form_reads_slopes(r.model, r.kernel_angular);
     for (const Model& m : models) {
       lut.kernel_sigma_over_lambda.push_back(m.surface().sigma_over_lambda());
       lut.kernel_lc_over_lambda.push_back(m.surface().lc_over_lambda());

@@ -364,7 +364,7 @@ void detail::kernel_closed_form_span(const Lut& lut, int first_channel, int chan
         for (std::size_t k = 0; k < count; ++k) row[k] *= inverse_s_term_eq28(geos[k]);
         break;
       case ClosedAngularForm::none:
-        if (lut.kernel_model == ModelKind::mbk_fg && lut.kernel_angular == KernelAngular::closed_form)
+        if (detail::kernel_closed_form_reads_slopes(lut.kernel_model, lut.kernel_angular))
           for (std::size_t k = 0; k < count; ++k)  // eq. 31's G / S (Model::combine_span)
             row[k] *= geometric_term(lut.kernel_g_term[channel], geos[k], lut.kernel_sigma_g[channel]) / s_term(geos[k]);
         break;
