@@ -19,6 +19,7 @@
 #include <sys/wait.h>
 #include <tbb/parallel_for.h>
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -185,69 +186,74 @@ struct Reference {
   double evals_per_s = 0.0;
 };
 
-class Bench {
+// What every row is measured against, per surface: the query sets (all geometries; the slice
+// scene's) and each model's reference values on them, made once and listed as a reference row.
+class References {
  public:
-  explicit Bench(bool quick) : quick_(quick), min_seconds_(quick ? 0.04 : 0.25) {
+  References(bool quick, std::vector<Row>& rows) : min_seconds_(quick ? 0.04 : 0.25), rows_(rows) {
     const int count = quick ? 1500 : 8000;
     full_ = make_queries(LutLayout::rusinkiewicz, count, 1);
     slice_ = make_queries(LutLayout::slice, count, 2);
   }
 
-  void run_surface(const BenchSurface& s) {
+  void clear() {
     references_.clear();
     slice_references_.clear();
-    // Models: every BRDF at its default settings. mbk's default (auto regime, tolerance 1e-6) is
-    // listed with its fast paths.
-    for (ModelKind kind : {ModelKind::mbk_fg, ModelKind::bk, ModelKind::bk_modified, ModelKind::microfacet})
-      add_model_row("model", kind, s, gold(s), "default");
-    add_model_row("fast_path", ModelKind::mbk, s, gold(s), "auto regime tol 1e-6 (default: kernel table)");
-    ModelParameters series_only = gold(s);
-    series_only.series.allow_kernel_table = false;
-    add_model_row("fast_path", ModelKind::mbk, s, series_only, "series tol 1e-6 (--asf-method series)");
-    ModelParameters loose = gold(s);
-    loose.tolerance = 1e-4;
-    add_model_row("fast_path", ModelKind::mbk, s, loose, "auto regime tol 1e-4");
-    loose.tolerance = 1e-3;
-    add_model_row("fast_path", ModelKind::mbk, s, loose, "auto regime tol 1e-3");
-    ModelParameters strided = reference_parameters(s);
-    strided.series.method = libbrdf::SeriesMethod::strided;
-    add_model_row("fast_path", ModelKind::mbk, s, strided, "series strided (tol 0)");
-    add_model_row("fast_path", ModelKind::mbk_polished, s, gold(s), "closed form eq. 14");
-    add_model_row("fast_path", ModelKind::mbk_rough, s, gold(s), "closed form eq. 15");
-    add_asf_rows(s);
-    ModelParameters tis = gold(s);
-    tis.k_mode = libbrdf::KMode::tis;
-    add_model_row("fast_path", ModelKind::mbk, s, tis, "k-mode tis (vs plane)");
+  }
 
-    // Tables of every model, and several layouts and sizes for mbk.
-    const int n = quick_ ? 48 : 90;
-    for (ModelKind kind : {ModelKind::mbk, ModelKind::mbk_polished, ModelKind::mbk_rough, ModelKind::mbk_fg,
-                           ModelKind::bk, ModelKind::bk_modified, ModelKind::microfacet})
-      add_lut_row(kind, s, LutLayout::rusinkiewicz, std::array<int, 3>{n, n, n});
-    add_lut_row(ModelKind::mbk, s, LutLayout::rusinkiewicz, {24, 24, 24});
-    if (!quick_) add_lut_row(ModelKind::mbk, s, LutLayout::rusinkiewicz, {160, 160, 160});
-    add_lut_row(ModelKind::mbk, s, LutLayout::merl, libbrdf::kMerlShape);
-    add_lut_row(ModelKind::mbk, s, LutLayout::slice, {64, 32, 1});
-    add_lut_row(ModelKind::mbk, s, LutLayout::slice, {256, 128, 1});
-    if (!quick_) add_lut_row(ModelKind::mbk, s, LutLayout::slice, {1024, 512, 1});
-    // Kernel layout: P~ tabulated (what the Blender atlas holds) and all of P in closed form (2^3).
-    add_lut_row(ModelKind::mbk, s, LutLayout::kernel, {32, 32, 32}, KernelAngular::table);
-    add_lut_row(ModelKind::mbk, s, LutLayout::kernel, libbrdf::default_resolution(LutLayout::kernel), KernelAngular::table);
-    add_lut_row(ModelKind::mbk, s, LutLayout::kernel, {2, 2, 2}, KernelAngular::closed_form);
-    add_lut_row(ModelKind::bk_modified, s, LutLayout::kernel, {2, 2, 2}, KernelAngular::closed_form);
-    add_lut_row(ModelKind::mbk_fg, s, LutLayout::kernel, {2, 2, 2}, KernelAngular::closed_form);  // G/S at lookup
-    // Three-channel lookups (LutSampler: coordinates once, no acos/atan2 calls), every layout.
-    add_rgb_lookup_row(s, LutLayout::rusinkiewicz, std::array<int, 3>{n, n, n});
-    add_rgb_lookup_row(s, LutLayout::merl, libbrdf::kMerlShape);
-    add_rgb_lookup_row(s, LutLayout::kernel, libbrdf::default_resolution(LutLayout::kernel), KernelAngular::table);
-    add_rgb_lookup_row(s, LutLayout::kernel, {2, 2, 2}, KernelAngular::closed_form);
+  Reference& of(ModelKind kind, const BenchSurface& s, bool slice) {
+    auto& table = slice ? slice_references_ : references_;
+    const ModelKind ref_kind = reference_kind(kind);
+    auto it = table.find(ref_kind);
+    if (it != table.end()) return it->second;
+    Reference& ref = table[ref_kind];
+    ref.model = std::make_unique<Model>(ref_kind, reference_parameters(s));
+    const QuerySet& q = queries(slice);
+    const Model& m = *ref.model;
+    ref.values = values_on(q, [&m](const ScatterGeometry& g) { return m.evaluate(g); });
+    ref.evals_per_s = evals_per_second(q, [&m](const ScatterGeometry& g) { return m.evaluate(g); }, min_seconds_);
+    if (!slice) {
+      Row row{"model", std::string(libbrdf::model_name(ref_kind)), s.name, "reference", "", ""};
+      row.evals_per_s = ref.evals_per_s;
+      row.speed_ratio = 1.0;
+      fill_errors(row, ref.values, ref.values);
+      rows_.push_back(row);
+    }
+    return ref;
+  }
+
+  const QuerySet& queries(bool slice) const { return slice ? slice_ : full_; }
+  double min_seconds() const { return min_seconds_; }
+
+ private:
+  double min_seconds_;
+  std::vector<Row>& rows_;
+  QuerySet full_, slice_;
+  std::map<ModelKind, Reference> references_, slice_references_;
+};
+
+// Rows of models evaluated query by query (Model::evaluate), and of the ASF's paths.
+class ModelRows {
+ public:
+  ModelRows(References& references, std::vector<Row>& rows) : references_(references), rows_(rows) {}
+
+  void add(const char* kind_text, ModelKind kind, const BenchSurface& s, const ModelParameters& p, const std::string& variant) {
+    Reference& ref = references_.of(kind, s, false);
+    const Model model(kind, p);
+    Row row{kind_text, std::string(libbrdf::model_name(kind)), s.name, variant, "", ""};
+    const Evaluator f = [&model](const ScatterGeometry& g) { return model.evaluate(g); };
+    const QuerySet& q = references_.queries(false);
+    fill_errors(row, values_on(q, f), ref.values);
+    row.evals_per_s = evals_per_second(q, f, references_.min_seconds());
+    row.speed_ratio = row.evals_per_s / ref.evals_per_s;
+    rows_.push_back(row);
   }
 
   // The ASF alone (eq. 11, K = 1): the series, the kernel table, and the landed method.
   void add_asf_rows(const BenchSurface& s) {
     ModelParameters series_only = gold(s);
     series_only.series.allow_kernel_table = false;
-    add_model_row("fast_path", ModelKind::asf, s, series_only, "series SIMD tol 1e-6 (--asf-method series)");
+    add("fast_path", ModelKind::asf, s, series_only, "series SIMD tol 1e-6 (--asf-method series)");
     add_asf_batch_row(s, series_only, "batch: series in lanes tol 1e-6");
     ModelParameters coarse = gold(s);  // KernelTable::for_tolerance: the coarse tier (kernel_table.h)
     coarse.tolerance = libbrdf::kKernelTableCoarse.certified_error;
@@ -257,24 +263,133 @@ class Bench {
     };
     for (const Tier& tier : {Tier{gold(s), "kernel table tol 1e-6 (default)", "batch: kernel table in lanes tol 1e-6 (default)"},
                              Tier{coarse, "kernel table tol 1e-4 (coarse tier)", "batch: kernel table in lanes tol 1e-4 (coarse tier)"}}) {
-      add_model_row("fast_path", ModelKind::asf, s, tier.parameters, tier.name);
+      add("fast_path", ModelKind::asf, s, tier.parameters, tier.name);
       add_asf_batch_row(s, tier.parameters, tier.batch_name);
       rows_[rows_.size() - 2].bytes = rows_.back().bytes =
           static_cast<double>(libbrdf::KernelTable::for_tolerance(tier.parameters.tolerance)->bytes());
     }
     ModelParameters asf_landed = reference_parameters(s);
     asf_landed.series.method = libbrdf::SeriesMethod::strided;
-    add_model_row("fast_path", ModelKind::asf, s, asf_landed, "series strided scalar (landed method; tol 0)");
+    add("fast_path", ModelKind::asf, s, asf_landed, "series strided scalar (landed method; tol 0)");
     ModelParameters asf_simd_exact = reference_parameters(s);
     asf_simd_exact.series.method = libbrdf::SeriesMethod::simd;
-    add_model_row("fast_path", ModelKind::asf, s, asf_simd_exact, "series SIMD tol 0 (1e-14 truncation)");
+    add("fast_path", ModelKind::asf, s, asf_simd_exact, "series SIMD tol 0 (1e-14 truncation)");
   }
 
-  // A surface for the ASF's paths alone (kLongCorrelationSurface).
-  void run_asf_surface(const BenchSurface& s) {
-    references_.clear();
-    slice_references_.clear();
-    add_asf_rows(s);
+ private:
+  // The ASF through the batch API (asf_auto_batch: queries in SIMD lanes) over the whole set on
+  // one thread, g and c derived from the geometries inside the timing; speed_vs_landed against the
+  // row just before it (the same tolerance query by query through Model::evaluate).
+  void add_asf_batch_row(const BenchSurface& s, const ModelParameters& parameters, const std::string& variant) {
+    Reference& ref = references_.of(ModelKind::asf, s, false);
+    const double landed = rows_.back().evals_per_s;
+    const libbrdf::Surface surface{s.sigma_s_um, s.lc_um, kWavelengthUm};
+    const std::vector<ScatterGeometry>& geometries = references_.queries(false).geometries;
+    const std::size_t n = geometries.size();
+    std::vector<double> g(n), c(n), values(n);
+    const libbrdf::AsfScales scales = libbrdf::asf_scales(surface);  // as asf_auto_geometries: once per surface
+    auto run = [&] {
+      for (std::size_t k = 0; k < n; ++k) {
+        const libbrdf::AsfArguments a = libbrdf::asf_arguments(scales, geometries[k]);
+        g[k] = a.g, c[k] = a.c;
+      }
+      libbrdf::asf_auto_batch(g.data(), c.data(), n, scales.prefactor, parameters.tolerance, parameters.series, values.data());
+    };
+    run();
+    Row row{"fast_path", "asf", s.name, variant, "", ""};
+    fill_errors(row, values, ref.values);
+    row.evals_per_s = rate_per_second(
+        [&] {
+          run();
+          return n;
+        },
+        references_.min_seconds());
+    row.speed_ratio = row.evals_per_s / ref.evals_per_s;
+    row.speed_vs_landed = row.evals_per_s / landed;
+    rows_.push_back(row);
+  }
+
+  References& references_;
+  std::vector<Row>& rows_;
+};
+
+double table_bytes(const libbrdf::Lut& lut) {
+  double bytes = double(lut.values.size()) * sizeof(float);
+  for (const auto& t : lut.specular_reflectance) bytes += double(t.size()) * sizeof(float);
+  for (const auto& t : lut.renormalization) bytes += double(t.size()) * sizeof(float);
+  return bytes;
+}
+
+std::string kernel_variant(LutLayout layout, KernelAngular angular) {
+  if (layout != LutLayout::kernel) return "";
+  return angular == KernelAngular::table ? " (P~ table)" : " (closed-form P)";
+}
+
+// Rows of baked tables: one-channel lookups, three-channel lookups (LutSampler), the MERL-size bake.
+class TableRows {
+ public:
+  TableRows(References& references, std::vector<Row>& rows) : references_(references), rows_(rows) {}
+
+  void add_lookup_row(ModelKind kind, const BenchSurface& s, LutLayout layout, const std::array<int, 3>& shape,
+                      KernelAngular angular = KernelAngular::table) {
+    const bool slice = layout == LutLayout::slice;
+    Reference& ref = references_.of(kind, s, slice);
+    libbrdf::BakeRequest request;
+    request.model = kind;
+    request.channels = {gold(s)};
+    request.layout = layout;
+    request.resolution = shape;
+    request.light = kSunDirection;
+    request.view = kCameraDirection;
+    request.error_samples = 2000;  // the bench measures against the reference itself
+    request.kernel_angular = angular;
+    const libbrdf::Lut lut = libbrdf::bake(request);
+    const QuerySet& q = references_.queries(slice);
+    Row row{"lut", std::string(libbrdf::model_name(kind)), s.name, "table of the default model" + kernel_variant(layout, angular),
+            std::string(libbrdf::layout_name(layout)), libbrdf::shape_text(lut.shape, lut.layout)};
+    row.nodes = double(lut.nodes_per_channel());
+    row.bytes = table_bytes(lut);
+    const Evaluator f = [&lut](const ScatterGeometry& g) { return lut.lookup(0, g); };
+    fill_errors(row, values_on(q, f), ref.values);
+    row.evals_per_s = evals_per_second(q, f, references_.min_seconds());
+    row.speed_ratio = row.evals_per_s / ref.evals_per_s;
+    rows_.push_back(row);
+  }
+
+  // Lookups of all three channels of a 3-wavelength table (0.65, 0.55, 0.45 um) per second; the
+  // error columns are channel 1 (0.55 um) against the reference.
+  void add_rgb_lookup_row(const BenchSurface& s, LutLayout layout, const std::array<int, 3>& shape,
+                          KernelAngular angular = KernelAngular::table) {
+    Reference& ref = references_.of(ModelKind::mbk, s, false);
+    libbrdf::BakeRequest request = rgb_gold_request(s);
+    request.layout = layout;
+    request.resolution = shape;
+    request.error_samples = 2000;
+    request.kernel_angular = angular;
+    const libbrdf::LutSampler sampler(libbrdf::bake(request));
+    const libbrdf::Lut& lut = sampler.lut();
+    Row row{"lut3", "mbk", s.name, "3-channel lookups (LutSampler)" + kernel_variant(layout, angular), std::string(libbrdf::layout_name(layout)),
+            libbrdf::shape_text(lut.shape, lut.layout)};
+    row.nodes = double(lut.nodes_per_channel());
+    row.bytes = table_bytes(lut);
+    const Evaluator green = [&sampler](const ScatterGeometry& g) {
+      double v[3];
+      sampler.lookup_all(&g, 1, v);
+      return v[1];
+    };
+    const std::vector<ScatterGeometry>& geometries = references_.queries(false).geometries;
+    fill_errors(row, values_on(references_.queries(false), green), ref.values);
+    // Timed through LutSampler (lut.h: channel-interleaved nodes for the trilinear layouts and the P~ table, the
+    // values of lookup_all_batch) on one thread, as a renderer would call it for RGB.
+    std::vector<double> out(geometries.size() * 3);
+    row.evals_per_s = rate_per_second(
+        [&] {
+          sampler.lookup_all(geometries.data(), geometries.size(), out.data());
+          return geometries.size();
+        },
+        references_.min_seconds());
+    row.speed_ratio = row.evals_per_s / ref.evals_per_s;
+    rows_.push_back(row);
   }
 
   // The MERL-size bake (90 x 90 x 180 x 3 wavelengths, mbk with K): nodes x channels per second.
@@ -297,151 +412,96 @@ class Bench {
     rows_.push_back(row);
   }
 
+ private:
+  References& references_;
+  std::vector<Row>& rows_;
+};
+
+// Every BRDF of the registry that is its own reference (not mbk's closed forms), mbk apart: it is
+// listed with its fast paths.
+std::vector<ModelKind> models_at_defaults() {
+  std::vector<ModelKind> kinds;
+  for (const libbrdf::ModelTraits& row : libbrdf::kModelRegistry)
+    if (row.is_brdf() && row.kind != ModelKind::mbk && reference_kind(row.kind) == row.kind) kinds.push_back(row.kind);
+  return kinds;
+}
+
+class Bench {
+ public:
+  explicit Bench(bool quick) : quick_(quick), references_(quick, rows_) {}
+  Bench(const Bench&) = delete;
+  Bench& operator=(const Bench&) = delete;
+
+  void run_surface(const BenchSurface& s) {
+    references_.clear();
+    add_model_rows(s);
+    add_table_rows(s);
+  }
+
+  // A surface for the ASF's paths alone (kLongCorrelationSurface).
+  void run_asf_surface(const BenchSurface& s) {
+    references_.clear();
+    models_.add_asf_rows(s);
+  }
+
+  void add_bake_row(const BenchSurface& s) { tables_.add_bake_row(s); }
+
   const std::vector<Row>& rows() const { return rows_; }
 
  private:
-  Reference& reference(ModelKind kind, const BenchSurface& s, bool slice) {
-    auto& table = slice ? slice_references_ : references_;
-    const ModelKind ref_kind = reference_kind(kind);
-    auto it = table.find(ref_kind);
-    if (it != table.end()) return it->second;
-    Reference& ref = table[ref_kind];
-    ref.model = std::make_unique<Model>(ref_kind, reference_parameters(s));
-    const QuerySet& q = slice ? slice_ : full_;
-    const Model& m = *ref.model;
-    ref.values = values_on(q, [&m](const ScatterGeometry& g) { return m.evaluate(g); });
-    ref.evals_per_s = evals_per_second(q, [&m](const ScatterGeometry& g) { return m.evaluate(g); }, min_seconds_);
-    if (!slice) {
-      Row row{"model", std::string(libbrdf::model_name(ref_kind)), s.name, "reference", "", ""};
-      row.evals_per_s = ref.evals_per_s;
-      row.speed_ratio = 1.0;
-      fill_errors(row, ref.values, ref.values);
-      rows_.push_back(row);
-    }
-    return ref;
+  // Models: every BRDF at its default settings; mbk's default (auto regime, tolerance 1e-6) with
+  // its fast paths, and the ASF's.
+  void add_model_rows(const BenchSurface& s) {
+    for (ModelKind kind : models_at_defaults()) models_.add("model", kind, s, gold(s), "default");
+    models_.add("fast_path", ModelKind::mbk, s, gold(s), "auto regime tol 1e-6 (default: kernel table)");
+    ModelParameters series_only = gold(s);
+    series_only.series.allow_kernel_table = false;
+    models_.add("fast_path", ModelKind::mbk, s, series_only, "series tol 1e-6 (--asf-method series)");
+    ModelParameters loose = gold(s);
+    loose.tolerance = 1e-4;
+    models_.add("fast_path", ModelKind::mbk, s, loose, "auto regime tol 1e-4");
+    loose.tolerance = 1e-3;
+    models_.add("fast_path", ModelKind::mbk, s, loose, "auto regime tol 1e-3");
+    ModelParameters strided = reference_parameters(s);
+    strided.series.method = libbrdf::SeriesMethod::strided;
+    models_.add("fast_path", ModelKind::mbk, s, strided, "series strided (tol 0)");
+    models_.add("fast_path", ModelKind::mbk_polished, s, gold(s), "closed form eq. 14");
+    models_.add("fast_path", ModelKind::mbk_rough, s, gold(s), "closed form eq. 15");
+    models_.add_asf_rows(s);
+    ModelParameters tis = gold(s);
+    tis.k_mode = libbrdf::KMode::tis;
+    models_.add("fast_path", ModelKind::mbk, s, tis, "k-mode tis (vs plane)");
   }
 
-  void add_model_row(const char* kind_text, ModelKind kind, const BenchSurface& s, const ModelParameters& p,
-                     const std::string& variant) {
-    Reference& ref = reference(kind, s, false);
-    const Model model(kind, p);
-    Row row{kind_text, std::string(libbrdf::model_name(kind)), s.name, variant, "", ""};
-    const Evaluator f = [&model](const ScatterGeometry& g) { return model.evaluate(g); };
-    fill_errors(row, values_on(full_, f), ref.values);
-    row.evals_per_s = evals_per_second(full_, f, min_seconds_);
-    row.speed_ratio = row.evals_per_s / ref.evals_per_s;
-    rows_.push_back(row);
-  }
-
-  // The ASF through the batch API (asf_auto_batch: queries in SIMD lanes) over the whole set on
-  // one thread, g and c derived from the geometries inside the timing; speed_vs_landed against the
-  // row just before it (the same tolerance query by query through Model::evaluate).
-  void add_asf_batch_row(const BenchSurface& s, const ModelParameters& parameters, const std::string& variant) {
-    Reference& ref = reference(ModelKind::asf, s, false);
-    const double landed = rows_.back().evals_per_s;
-    const libbrdf::Surface surface{s.sigma_s_um, s.lc_um, kWavelengthUm};
-    const std::size_t n = full_.geometries.size();
-    std::vector<double> g(n), c(n), values(n);
-    const libbrdf::AsfScales scales = libbrdf::asf_scales(surface);  // as asf_auto_geometries: once per surface
-    auto run = [&] {
-      for (std::size_t k = 0; k < n; ++k) {
-        const libbrdf::AsfArguments a = libbrdf::asf_arguments(scales, full_.geometries[k]);
-        g[k] = a.g, c[k] = a.c;
-      }
-      libbrdf::asf_auto_batch(g.data(), c.data(), n, scales.prefactor, parameters.tolerance, parameters.series, values.data());
-    };
-    run();
-    Row row{"fast_path", "asf", s.name, variant, "", ""};
-    fill_errors(row, values, ref.values);
-    row.evals_per_s = rate_per_second(
-        [&] {
-          run();
-          return n;
-        },
-        min_seconds_);
-    row.speed_ratio = row.evals_per_s / ref.evals_per_s;
-    row.speed_vs_landed = row.evals_per_s / landed;
-    rows_.push_back(row);
-  }
-
-  static std::string kernel_variant(LutLayout layout, KernelAngular angular) {
-    if (layout != LutLayout::kernel) return "";
-    return angular == KernelAngular::table ? " (P~ table)" : " (closed-form P)";
-  }
-
-  void add_lut_row(ModelKind kind, const BenchSurface& s, LutLayout layout, const std::array<int, 3>& shape,
-                   KernelAngular angular = KernelAngular::table) {
-    const bool slice = layout == LutLayout::slice;
-    Reference& ref = reference(kind, s, slice);
-    libbrdf::BakeRequest request;
-    request.model = kind;
-    request.channels = {gold(s)};
-    request.layout = layout;
-    request.resolution = shape;
-    request.light = kSunDirection;
-    request.view = kCameraDirection;
-    request.error_samples = 2000;  // the bench measures against the reference itself
-    request.kernel_angular = angular;
-    const libbrdf::Lut lut = libbrdf::bake(request);
-    const QuerySet& q = slice ? slice_ : full_;
-    Row row{"lut", std::string(libbrdf::model_name(kind)), s.name, "table of the default model" + kernel_variant(layout, angular),
-            std::string(libbrdf::layout_name(layout)), libbrdf::shape_text(lut.shape, lut.layout)};
-    row.nodes = double(lut.nodes_per_channel());
-    row.bytes = table_bytes(lut);
-    const Evaluator f = [&lut](const ScatterGeometry& g) { return lut.lookup(0, g); };
-    fill_errors(row, values_on(q, f), ref.values);
-    row.evals_per_s = evals_per_second(q, f, min_seconds_);
-    row.speed_ratio = row.evals_per_s / ref.evals_per_s;
-    rows_.push_back(row);
-  }
-
-  static double table_bytes(const libbrdf::Lut& lut) {
-    double bytes = double(lut.values.size()) * sizeof(float);
-    for (const auto& t : lut.specular_reflectance) bytes += double(t.size()) * sizeof(float);
-    for (const auto& t : lut.renormalization) bytes += double(t.size()) * sizeof(float);
-    return bytes;
-  }
-
-  // Lookups of all three channels of a 3-wavelength table (0.65, 0.55, 0.45 um) per second; the
-  // error columns are channel 1 (0.55 um) against the reference.
-  void add_rgb_lookup_row(const BenchSurface& s, LutLayout layout, const std::array<int, 3>& shape,
-                          KernelAngular angular = KernelAngular::table) {
-    Reference& ref = reference(ModelKind::mbk, s, false);
-    libbrdf::BakeRequest request = rgb_gold_request(s);
-    request.layout = layout;
-    request.resolution = shape;
-    request.error_samples = 2000;
-    request.kernel_angular = angular;
-    const libbrdf::LutSampler sampler(libbrdf::bake(request));
-    const libbrdf::Lut& lut = sampler.lut();
-    Row row{"lut3", "mbk", s.name, "3-channel lookups (LutSampler)" + kernel_variant(layout, angular), std::string(libbrdf::layout_name(layout)),
-            libbrdf::shape_text(lut.shape, lut.layout)};
-    row.nodes = double(lut.nodes_per_channel());
-    row.bytes = table_bytes(lut);
-    const Evaluator green = [&sampler](const ScatterGeometry& g) {
-      double v[3];
-      sampler.lookup_all(&g, 1, v);
-      return v[1];
-    };
-    fill_errors(row, values_on(full_, green), ref.values);
-    // Timed through LutSampler (lut.h: channel-interleaved nodes for the trilinear layouts and the P~ table, the
-    // values of lookup_all_batch) on one thread, as a renderer would call it for RGB.
-    std::vector<double> out(full_.geometries.size() * 3);
-    row.evals_per_s = rate_per_second(
-        [&] {
-          sampler.lookup_all(full_.geometries.data(), full_.geometries.size(), out.data());
-          return full_.geometries.size();
-        },
-        min_seconds_);
-    row.speed_ratio = row.evals_per_s / ref.evals_per_s;
-    rows_.push_back(row);
+  // Tables of every BRDF, and several layouts and sizes for mbk.
+  void add_table_rows(const BenchSurface& s) {
+    const int n = quick_ ? 48 : 90;
+    for (const libbrdf::ModelTraits& row : libbrdf::kModelRegistry)
+      if (row.is_brdf()) tables_.add_lookup_row(row.kind, s, LutLayout::rusinkiewicz, std::array<int, 3>{n, n, n});
+    tables_.add_lookup_row(ModelKind::mbk, s, LutLayout::rusinkiewicz, {24, 24, 24});
+    if (!quick_) tables_.add_lookup_row(ModelKind::mbk, s, LutLayout::rusinkiewicz, {160, 160, 160});
+    tables_.add_lookup_row(ModelKind::mbk, s, LutLayout::merl, libbrdf::kMerlShape);
+    tables_.add_lookup_row(ModelKind::mbk, s, LutLayout::slice, {64, 32, 1});
+    tables_.add_lookup_row(ModelKind::mbk, s, LutLayout::slice, {256, 128, 1});
+    if (!quick_) tables_.add_lookup_row(ModelKind::mbk, s, LutLayout::slice, {1024, 512, 1});
+    // Kernel layout: P~ tabulated (what the Blender atlas holds) and all of P in closed form (2^3).
+    tables_.add_lookup_row(ModelKind::mbk, s, LutLayout::kernel, {32, 32, 32}, KernelAngular::table);
+    tables_.add_lookup_row(ModelKind::mbk, s, LutLayout::kernel, libbrdf::default_resolution(LutLayout::kernel), KernelAngular::table);
+    tables_.add_lookup_row(ModelKind::mbk, s, LutLayout::kernel, {2, 2, 2}, KernelAngular::closed_form);
+    tables_.add_lookup_row(ModelKind::bk_modified, s, LutLayout::kernel, {2, 2, 2}, KernelAngular::closed_form);
+    tables_.add_lookup_row(ModelKind::mbk_fg, s, LutLayout::kernel, {2, 2, 2}, KernelAngular::closed_form);  // G/S at lookup
+    // Three-channel lookups (LutSampler: coordinates once, no acos/atan2 calls), every layout.
+    tables_.add_rgb_lookup_row(s, LutLayout::rusinkiewicz, std::array<int, 3>{n, n, n});
+    tables_.add_rgb_lookup_row(s, LutLayout::merl, libbrdf::kMerlShape);
+    tables_.add_rgb_lookup_row(s, LutLayout::kernel, libbrdf::default_resolution(LutLayout::kernel), KernelAngular::table);
+    tables_.add_rgb_lookup_row(s, LutLayout::kernel, {2, 2, 2}, KernelAngular::closed_form);
   }
 
   bool quick_;
-  double min_seconds_;
-  QuerySet full_, slice_;
-  std::map<ModelKind, Reference> references_, slice_references_;
   std::vector<Row> rows_;
+  References references_;
+  ModelRows models_{references_, rows_};
+  TableRows tables_{references_, rows_};
 };
 
 void write_csv(const std::vector<Row>& rows, const std::string& path) {

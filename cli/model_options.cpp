@@ -7,10 +7,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <sstream>
 
 #include "libbrdf/error.h"
-#include "libbrdf/materials.h"
 
 namespace brdf_cli {
 
@@ -41,58 +39,6 @@ void add_model_options(CLI::App& command, ModelOptions& o, bool require_model) {
 }
 
 libbrdf::ModelKind parse_model_kind(const ModelOptions& o) { return libbrdf::model_from_name(o.model); }
-
-namespace {
-template <class Enum>
-Enum parse_choice(const std::string& text, const char* parameter,
-                  std::initializer_list<std::pair<const char*, Enum>> choices) {
-  std::ostringstream names;
-  for (const auto& [name, value] : choices) {
-    if (text == name) return value;
-    names << (names.tellp() > 0 ? "|" : "") << name;
-  }
-  throw InvalidArgument(parameter, "must be one of " + names.str() + " (got '" + libbrdf::message_excerpt(text) + "')");
-}
-}  // namespace
-
-libbrdf::ModelParameters model_parameters(const ModelOptions& o, double wavelength_um) {
-  libbrdf::ModelParameters p;
-  p.sigma_s_um = o.sigma_s_um;
-  p.lc_um = o.lc_um;
-  p.wavelength_um = wavelength_um;
-  if (!o.material.empty() && o.n) throw InvalidArgument("material", "give either --material or --n/--k, not both");
-  if (!o.material.empty()) {
-    p.index = libbrdf::material_index(o.material, wavelength_um);
-  } else if (o.n) {
-    p.index = libbrdf::ComplexIndex{*o.n, o.kappa.value_or(0.0)};
-  } else if (o.kappa) {
-    throw InvalidArgument("n", "required with --k");
-  }
-  // An option the model does not read is an error, never silently ignored (--rho-d with mbk).
-  const libbrdf::ModelKind kind = parse_model_kind(o);
-  const bool microfacet = kind == libbrdf::ModelKind::microfacet;
-  const bool facet_slopes = microfacet || kind == libbrdf::ModelKind::mbk_fg;  // sigma_g and G (eqs 7, 31)
-  auto only_for = [&](bool given, bool read, const char* parameter, const char* models) {
-    if (given && !read)
-      throw InvalidArgument(parameter, std::string("applies only to --model ") + models + " (got --model " + o.model + ")");
-  };
-  only_for(o.rho_s.has_value(), microfacet, "rho-s", "microfacet");
-  only_for(o.rho_d.has_value(), microfacet, "rho-d", "microfacet");
-  only_for(o.sigma_g.has_value(), facet_slopes, "sigma-g", "microfacet or mbk-fg");
-  only_for(o.g_term.has_value(), facet_slopes, "g-term", "microfacet or mbk-fg");
-  only_for(o.sigma_g_mapping.has_value(), facet_slopes, "sigma-g-mapping", "microfacet or mbk-fg");
-  p.sigma_g = o.sigma_g;
-  p.rho_s = o.rho_s;
-  p.rho_d = o.rho_d.value_or(0.0);
-  p.g_term = parse_choice<libbrdf::GeometricTerm>(o.g_term.value_or("smith"), "g-term",
-      {{"none", libbrdf::GeometricTerm::none}, {"smith", libbrdf::GeometricTerm::smith}, {"vgroove", libbrdf::GeometricTerm::vgroove}});
-  p.k_mode = parse_choice<libbrdf::KMode>(o.k_mode, "k-mode", {{"plane", libbrdf::KMode::plane}, {"tis", libbrdf::KMode::tis}});
-  p.sigma_g_mapping = parse_choice<libbrdf::SigmaGMapping>(o.sigma_g_mapping.value_or("auto"), "sigma-g-mapping",
-      {{"auto", libbrdf::SigmaGMapping::automatic}, {"rough", libbrdf::SigmaGMapping::rough}, {"polished", libbrdf::SigmaGMapping::polished}});
-  p.tolerance = o.tolerance;
-  p.series.allow_kernel_table = parse_choice<bool>(o.asf_method, "asf-method", {{"auto", true}, {"series", false}});
-  return p;
-}
 
 std::vector<double> channel_wavelengths(const ModelOptions& o, std::vector<double> default_wavelengths) {
   std::vector<double> out = o.wavelengths.empty() ? std::move(default_wavelengths) : parse_number_list(o.wavelengths, 0, "wavelength");

@@ -10,21 +10,15 @@
 #include <vector>
 
 #include "libbrdf/lut.h"
+#include "libbrdf/model_settings.h"
 #include "libbrdf/models.h"
 
 namespace brdf_cli {
 
-struct ModelOptions {
-  std::string model;
-  // Options only some models read are optional: given to another model, they are an error.
-  std::optional<double> sigma_s_um, lc_um, n, kappa, sigma_g, rho_s, rho_d;
-  std::string wavelengths;             // --wavelength text "A[,B,...]" (parsed by channel_wavelengths)
-  std::string material;
-  std::optional<std::string> g_term;           // default smith
-  std::string k_mode = "plane";
-  std::optional<std::string> sigma_g_mapping;  // default auto
-  double tolerance = 1e-6;
-  std::string asf_method = "auto";
+// The model settings (libbrdf/model_settings.h: libbrdf::model_parameters maps them, also for the
+// Python module) and the --wavelength text.
+struct ModelOptions : libbrdf::ModelSettings {
+  std::string wavelengths;  // --wavelength text "A[,B,...]" (parsed by channel_wavelengths)
 };
 
 // Registers the options on a subcommand. `default_wavelengths` is what an absent --wavelength means.
@@ -32,9 +26,6 @@ void add_model_options(CLI::App& command, ModelOptions& options, bool require_mo
 
 // The kind named by --model (throws libbrdf::InvalidArgument naming "model").
 libbrdf::ModelKind parse_model_kind(const ModelOptions& options);
-
-// ModelParameters for one wavelength (complex index from --n/--k or --material at that wavelength).
-libbrdf::ModelParameters model_parameters(const ModelOptions& options, double wavelength_um);
 
 // The channels' wavelengths: --wavelength values, or the given default.
 std::vector<double> channel_wavelengths(const ModelOptions& options, std::vector<double> default_wavelengths);

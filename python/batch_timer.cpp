@@ -38,7 +38,7 @@ int main(int argc, char** argv) {
     in.read(reinterpret_cast<char*>(degrees.data()), static_cast<std::streamsize>(degrees.size() * sizeof(double)));
     const std::size_t count = degrees.size() / 3;
     const std::vector<double> wavelengths = brdf_cli::channel_wavelengths(options, {0.55});
-    const libbrdf::Model model(brdf_cli::parse_model_kind(options), brdf_cli::model_parameters(options, wavelengths[0]));
+    const libbrdf::Model model(brdf_cli::parse_model_kind(options), libbrdf::model_parameters(options, wavelengths[0]));
     std::vector<double> values(count);
     double best = 1e300;
     for (int r = 0; r < std::max(1, repeat); ++r) {

@@ -1,4 +1,5 @@
-// The Python module `libbrdf`: numpy arrays in, numpy arrays out, through the batch API
+// The compiled module libbrdf._core (re-exported by the package libbrdf, python/libbrdf/__init__.py):
+// numpy arrays in, numpy arrays out, through the batch API
 // (libbrdf/batch.h), so that Python, `brdf eval` and the exporters give bit-identical values.
 //
 //   import libbrdf
@@ -12,8 +13,8 @@
 // NaN included; TypeError for arrays of the wrong dtype or shape; libbrdf.LutFileError (an
 // OSError) for unreadable or foreign table files.
 //
-// Model parameters go through the CLI's own option mapping (cli/model_options.cpp, compiled in
-// here) so that every keyword means exactly what the `brdf` option of the same name means.
+// Model parameters go through libbrdf's option mapping (libbrdf/model_settings.h), the CLI's too,
+// so that every keyword means exactly what the `brdf` option of the same name means.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -22,7 +23,6 @@
 #include <array>
 #include <atomic>
 #include <cmath>
-#include <cstdio>
 #include <optional>
 #include <string>
 #include <vector>
@@ -32,9 +32,9 @@
 #include "libbrdf/error.h"
 #include "libbrdf/lut.h"
 #include "libbrdf/materials.h"
+#include "libbrdf/model_settings.h"
 #include "libbrdf/models.h"
 #include "libbrdf/version.h"
-#include "model_options.h"
 
 namespace py = pybind11;
 
@@ -42,7 +42,7 @@ namespace {
 
 using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
-// Surface and material keywords shared by Model and bake, as the CLI's ModelOptions.
+// Surface and material keywords shared by Model and bake (libbrdf::ModelSettings).
 struct SurfaceKeywords {
   std::optional<double> sigma_s, lc, n, k, sigma_g, rho_s, rho_d;  // None: not given (an error where unread)
   std::optional<std::string> material, g_term;
@@ -50,28 +50,22 @@ struct SurfaceKeywords {
   std::optional<std::string> sigma_g_mapping;
   double tolerance = 1e-6;
 
-  brdf_cli::ModelOptions options(const std::string& name, const std::vector<double>& wavelengths) const {
-    brdf_cli::ModelOptions o;
-    o.model = name;
-    o.sigma_s_um = sigma_s;
-    o.lc_um = lc;
-    o.n = n;
-    o.kappa = k;
-    o.sigma_g = sigma_g;
-    o.rho_s = rho_s;
-    o.rho_d = rho_d;
-    // The CLI's --wavelength text: %.17g round-trips every double exactly (NaN/inf stay errors).
-    for (double w : wavelengths) {
-      char text[40];
-      std::snprintf(text, sizeof text, "%.17g", w);
-      o.wavelengths += (o.wavelengths.empty() ? "" : ",") + std::string(text);
-    }
-    o.material = material.value_or("");
-    o.g_term = g_term;
-    o.k_mode = k_mode;
-    o.sigma_g_mapping = sigma_g_mapping;
-    o.tolerance = tolerance;
-    return o;
+  libbrdf::ModelSettings settings(const std::string& name) const {
+    libbrdf::ModelSettings s;
+    s.model = name;
+    s.sigma_s_um = sigma_s;
+    s.lc_um = lc;
+    s.n = n;
+    s.kappa = k;
+    s.sigma_g = sigma_g;
+    s.rho_s = rho_s;
+    s.rho_d = rho_d;
+    s.material = material.value_or("");
+    s.g_term = g_term;
+    s.k_mode = k_mode;
+    s.sigma_g_mapping = sigma_g_mapping;
+    s.tolerance = tolerance;
+    return s;
   }
 };
 
@@ -195,9 +189,8 @@ struct PyModel {
 };
 
 PyModel make_model(const std::string& name, double wavelength, const SurfaceKeywords& kw) {
-  const brdf_cli::ModelOptions o = kw.options(name, {wavelength});
-  const std::vector<double> wavelengths = brdf_cli::channel_wavelengths(o, {0.55});
-  return PyModel{name, wavelengths[0], libbrdf::Model(brdf_cli::parse_model_kind(o), brdf_cli::model_parameters(o, wavelengths[0])),
+  const libbrdf::ModelSettings settings = kw.settings(name);
+  return PyModel{name, wavelength, libbrdf::Model(libbrdf::model_from_name(name), libbrdf::model_parameters(settings, wavelength)),
                  kw.material.value_or("")};
 }
 
@@ -268,6 +261,7 @@ void check_keywords_first(py::object scope, const char* attribute, const std::st
   else
     scope.attr(attribute) = py::cpp_function(checked, py::name(attribute), py::scope(scope), py::doc(doc.c_str()));
 }
+
 
 py::object evaluate_directions(const PyModel& m, py::handle to_light, py::handle to_view) {
   py::array l = real_array(to_light, "to_light"), v = real_array(to_view, "to_view");
@@ -366,15 +360,15 @@ std::vector<std::string> export_blender(const std::string& name, const std::stri
                                         const std::optional<std::vector<int>>& resolution,
                                         const std::optional<double>& target_error, const std::string& material_name,
                                         const SurfaceKeywords& kw) {
-  const brdf_cli::ModelOptions o = kw.options(name, wavelengths);
+  const libbrdf::ModelSettings settings = kw.settings(name);
   libbrdf::blender::MaterialExportRequest request;
-  request.model = brdf_cli::parse_model_kind(o);
+  request.model = libbrdf::model_from_name(name);
   request.mode = mode;
   request.output = output;
   if (resolution) request.resolution = node_counts(*resolution, 3);
   request.target_error = target_error;
   request.name = material_name;
-  for (double w : brdf_cli::channel_wavelengths(o, {0.65, 0.55, 0.45})) request.channels.push_back(brdf_cli::model_parameters(o, w));
+  request.channels = libbrdf::channel_parameters(settings, wavelengths);
   py::gil_scoped_release release;
   return libbrdf::blender::export_material(request).written;
 }
@@ -383,9 +377,9 @@ libbrdf::Lut bake(const std::string& name, const std::vector<double>& wavelength
                   const std::optional<std::vector<int>>& resolution, const std::optional<double>& target_error,
                   const std::optional<std::array<double, 3>>& light, const std::optional<std::array<double, 3>>& view,
                   int error_samples, double error_floor, std::uint64_t seed, const SurfaceKeywords& kw) {
-  const brdf_cli::ModelOptions o = kw.options(name, wavelengths);
+  const libbrdf::ModelSettings settings = kw.settings(name);
   libbrdf::BakeRequest request;
-  request.model = brdf_cli::parse_model_kind(o);
+  request.model = libbrdf::model_from_name(name);
   request.layout = libbrdf::layout_from_name(layout);
   const bool slice = request.layout == libbrdf::LutLayout::slice;
   if (slice) {
@@ -399,7 +393,7 @@ libbrdf::Lut bake(const std::string& name, const std::vector<double>& wavelength
   request.error_samples = error_samples;
   request.error_floor_fraction = error_floor;
   request.seed = seed;
-  for (double w : brdf_cli::channel_wavelengths(o, {0.65, 0.55, 0.45})) request.channels.push_back(brdf_cli::model_parameters(o, w));
+  request.channels = libbrdf::channel_parameters(settings, wavelengths);
 
   // Ctrl-C: the progress callback (calling thread) looks for a pending KeyboardInterrupt.
   std::atomic<bool> cancel{false};
@@ -429,16 +423,48 @@ py::array_t<float> lut_values(const libbrdf::Lut& lut, py::handle owner) {
   return view;
 }
 
+const char* albedo_path_name(libbrdf::AlbedoPath path) {
+  switch (path) {
+    case libbrdf::AlbedoPath::none: return "none";
+    case libbrdf::AlbedoPath::surface_lobe: return "surface lobe";
+    case libbrdf::AlbedoPath::facet_lobe: return "facet lobe";
+  }
+  return "?";
+}
+
+// A model's registry row (model_registry.h) as a dict; options in Python's spelling.
+py::dict model_info(const std::string& name) {
+  const libbrdf::ModelTraits& row = libbrdf::model_traits(libbrdf::model_from_name(name));
+  py::list options, inputs, factors;
+  for (libbrdf::ModelOption o : {libbrdf::kRhoS, libbrdf::kRhoD, libbrdf::kSigmaG, libbrdf::kGTerm, libbrdf::kSigmaGMapping})
+    if (row.reads(o)) options.append(python_name(std::string(libbrdf::option_name(o))));
+  for (const auto& [input, text] : {std::pair{libbrdf::kSigmaS, "sigma_s"}, std::pair{libbrdf::kLc, "lc"}, std::pair{libbrdf::kIndex, "n"}})
+    if (row.needs(input)) inputs.append(text);
+  for (const auto& [factor, text] : {std::pair{libbrdf::kFactorK, "K"}, std::pair{libbrdf::kFactorQBar, "Qbar"},
+                                     std::pair{libbrdf::kFactorFresnelD, "F(theta_d)"}, std::pair{libbrdf::kFactorAsf, "A"}})
+    if (row.multiplies(factor)) factors.append(text);
+  py::dict d;
+  d["name"] = std::string(row.name);
+  d["formula"] = std::string(row.formula);
+  d["equation"] = std::string(row.equation);
+  d["brdf"] = row.is_brdf();
+  d["inputs"] = inputs;
+  d["options"] = options;
+  d["factors"] = factors;
+  d["spike"] = row.spike;
+  d["asf_based"] = row.asf_based;
+  d["albedo"] = albedo_path_name(row.albedo);
+  return d;
+}
+
 bool ends_with(const std::string& text, const std::string& suffix) {
   return text.size() >= suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-}  // namespace
+// --- The module's parts -------------------------------------------------------------------------
 
-PYBIND11_MODULE(_core, m) {
-  m.doc() = "libbrdf: MBK, Beckmann-Kirchhoff and microfacet BRDFs (Butler, Nauyoks & Marciniak 2015) on numpy arrays";
-  m.attr("__version__") = libbrdf::kVersion;
-
+// libbrdf.InvalidArgument and libbrdf.LutFileError, and the translation of libbrdf's exceptions.
+void register_exceptions(py::module_& m) {
   // InvalidArgument -> libbrdf.InvalidArgument(ValueError) with .parameter (Python spelling), .index.
   // Handles, not objects: a static py::object would be released after the interpreter is gone
   // (the module attributes keep the types alive).
@@ -461,12 +487,18 @@ PYBIND11_MODULE(_core, m) {
       PyErr_SetString(lut_file_error.ptr(), e.what());
     }
   });
+}
 
+// model_names, model_info, materials: what there is to choose from.
+void define_catalogue(py::module_& m) {
   m.def("model_names", [] {
     std::vector<std::string> names;
     for (auto kind : libbrdf::all_models()) names.emplace_back(libbrdf::model_name(kind));
     return names;
   }, "Every quantity `Model` (and `brdf eval --model`) accepts, in the CLI's order.");
+  m.def("model_info", &model_info, py::arg("name"),
+        "A model's row of libbrdf's registry: formula, equation, brdf, inputs it requires, options it reads, "
+        "factors, spike, asf_based, albedo path.");
   m.def("materials", [] {
     py::dict d;
     for (const auto& info : libbrdf::builtin_materials())
@@ -474,7 +506,9 @@ PYBIND11_MODULE(_core, m) {
                                        py::arg("wavelength_range_um") = py::make_tuple(info.min_wavelength_um, info.max_wavelength_um));
     return d;
   }, "Built-in materials (name -> description, source, tabulated wavelength range in um).");
+}
 
+void define_model_class(py::module_& m) {
   py::class_<PyModel>(m, "Model", R"doc(
 A model (a named quantity of `brdf eval --model`) of one surface at one wavelength.
 
@@ -529,7 +563,9 @@ Out-of-domain values raise libbrdf.InvalidArgument (a ValueError) naming the par
                              "The microfacet slope parameter in use (given or mapped by eqs 20/25; 0 if none).")
       .def_property_readonly("parameters", &parameters_dict)
       .def("__repr__", &model_repr);
+}
 
+void define_lut_classes(py::module_& m) {
   py::class_<libbrdf::Lut>(m, "Lut", "A baked table (libbrdf.bake or Lut.open): lookups on arrays, its measured error, its values.")
       .def_static("open", [](const std::string& path) {
         py::gil_scoped_release release;
@@ -581,7 +617,9 @@ Out-of-domain values raise libbrdf.InvalidArgument (a ValueError) naming the par
         return "libbrdf.LutSampler(" + std::string(libbrdf::layout_name(self.lut().layout)) + " " +
                libbrdf::shape_text(self.lut().shape, self.lut().layout) + ", " + std::to_string(self.lut().channels()) + " channel(s))";
       });
+}
 
+void define_bake(py::module_& m) {
   m.def("bake",
         [](const std::string& name, py::object wavelength, const std::string& layout, std::optional<std::vector<int>> resolution,
            std::optional<double> target_error, std::optional<std::array<double, 3>> light, std::optional<std::array<double, 3>> view,
@@ -606,7 +644,9 @@ default (0.65, 0.55, 0.45)). layout: rusinkiewicz | merl | slice (light=, view= 
 resolution: nodes per axis, or target_error: the smallest table whose measured max relative error
 meets it. Returns a Lut; lut.error holds the measured error. Ctrl-C cancels.
 )doc");
+}
 
+void define_export_blender(py::module_& m) {
   m.def("export_blender",
         [](const std::string& name, const std::string& output, py::object wavelength, const std::string& mode,
            std::optional<std::vector<int>> resolution, std::optional<double> target_error, const std::string& material_name,
@@ -629,8 +669,21 @@ A material for the Blender add-on, as `brdf export blender` writes it (the same 
 output DIR/NAME.json (DIR created), mode lut | osl | fit, wavelength one or three (R, G, B),
 resolution (3 node counts) or target_error, the surface keywords of Model. Returns the paths written.
 )doc");
+}
 
+}  // namespace
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "libbrdf: MBK, Beckmann-Kirchhoff and microfacet BRDFs (Butler, Nauyoks & Marciniak 2015) on numpy arrays";
+  m.attr("__version__") = libbrdf::kVersion;
+  register_exceptions(m);
+  define_catalogue(m);
+  define_model_class(m);
+  define_lut_classes(m);
+  define_bake(m);
+  define_export_blender(m);
+  // One-line TypeErrors for mistyped keywords (check_keywords_first), after every definition.
   check_keywords_first(m.attr("Model"), "__init__", "Model", /*is_method=*/true);
-  check_keywords_first(m, "export_blender", "export_blender", /*is_method=*/false);
   check_keywords_first(m, "bake", "bake", /*is_method=*/false);
+  check_keywords_first(m, "export_blender", "export_blender", /*is_method=*/false);
 }

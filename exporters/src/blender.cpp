@@ -194,9 +194,7 @@ void write_blender_atlas_exr(const Lut& lut, const BlenderAtlas& a, const std::s
 
 // ---- The kernel (factored) form ----------------------------------------------------------------
 
-bool kernel_export_model(ModelKind kind) {
-  return kind == ModelKind::mbk || kind == ModelKind::mbk_fg || kind == ModelKind::bk || kind == ModelKind::bk_modified;
-}
+bool kernel_export_model(ModelKind kind) { return model_traits(kind).asf_based; }
 
 SigmaImage sigma_image_layout() {
   SigmaImage image;
@@ -258,7 +256,7 @@ std::string angular_cache_key(const std::vector<Model>& models, const std::strin
     if (p.index) key << " n " << p.index->n << " kappa " << p.index->kappa;
     // P~ = P / F: Qbar / F (mbk), 1 (bk, bk-modified) depend on the geometry and n only; mbk-fg's
     // G / S also on sigma_g (mapped from sigma_s and l_c unless given) and the G term.
-    if (m.kind() == ModelKind::mbk_fg) key << " sigma_g " << m.sigma_g() << " g_term " << static_cast<int>(p.g_term);
+    if (model_traits(m.kind()).reads(libbrdf::kSigmaG)) key << " sigma_g " << m.sigma_g() << " g_term " << static_cast<int>(p.g_term);
   }
   return key.str();
 }
@@ -356,11 +354,12 @@ std::array<KernelChannel, 3> kernel_channels(const std::vector<ModelParameters>&
 }
 
 std::string kernel_closed_form_name(ModelKind kind) {
-  switch (kind) {
-    case ModelKind::bk: return "bk_eq27";
-    case ModelKind::bk_modified: return "bk_modified_eq28";
-    default: return "none";
+  switch (model_traits(kind).closed_angular) {
+    case ClosedAngularForm::none: return "none";
+    case ClosedAngularForm::bk_eq26: return "bk_eq27";  // the shader's name (F_bk^2 of eq. 26, eq. 27's form)
+    case ClosedAngularForm::bk_modified_eq28: return "bk_modified_eq28";
   }
+  return "none";
 }
 
 SpikeFit spike_fit(ModelKind kind, const std::vector<ModelParameters>& channels) {

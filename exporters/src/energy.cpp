@@ -35,7 +35,7 @@ EnergySummary energy_summary(ModelKind kind, const std::vector<libbrdf::ModelPar
   EnergySummary s;
   s.theta_i_deg = {0.0, 30.0, 60.0, 80.0, 85.0};
   s.albedo = albedo_rows(kind, channels, s.theta_i_deg, nullptr, &s.max_albedo);
-  const bool has_k = kind == ModelKind::mbk || kind == ModelKind::mbk_rough || kind == ModelKind::mbk_fg;
+  const bool has_k = libbrdf::model_traits(kind).always_renormalized();
   char text[200];
   if (has_k) {
     const bool tis = channels.front().k_mode == libbrdf::KMode::tis;

@@ -193,7 +193,7 @@ std::string osl_kernel_shader_source(const BlenderExport& e, const std::string& 
   }
   o << "#define LIBBRDF_PREFACTOR color(" << number(channels[0].prefactor) << ", " << number(channels[1].prefactor) << ", "
     << number(channels[2].prefactor) << ")  // pi l_c^2/lambda^2\n";
-  o << "#define LIBBRDF_CLOSED_FORM " << (e.model == ModelKind::bk ? 1 : e.model == ModelKind::bk_modified ? 2 : 0)
+  o << "#define LIBBRDF_CLOSED_FORM " << static_cast<int>(libbrdf::model_traits(e.model).closed_angular)
     << "  // 0: C = 1, 1: F_bk^2 (eq. 27), 2: 1/S (eq. 28)\n";
   o << "#define LIBBRDF_BRDF(Nn, Ln, Vn) libbrdf_brdf(Side, Angular, SigmaImage, Nn, Ln, Vn)\n"
        "#define LIBBRDF_SPECULAR(theta) libbrdf_row(Side, 0.0, theta)\n\n";

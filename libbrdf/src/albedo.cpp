@@ -22,7 +22,7 @@ constexpr unsigned kMaxDepth = 12;
 double lobe_width(const Model& model, double theta_i) {
   const Surface surface = model.surface();
   double width = 1.0 / (kPi * surface.lc_over_lambda());  // m = 1 Gaussian of eq. 11
-  if (model.kind() == ModelKind::microfacet && model.sigma_g() > 0.0)
+  if (model_traits(model.kind()).albedo == AlbedoPath::facet_lobe && model.sigma_g() > 0.0)
     width = std::min(width, model.sigma_g() * std::max(std::cos(theta_i), 0.05));  // D_g in half-vector slopes
   return std::clamp(width, 1e-9, 1.0);
 }

@@ -33,13 +33,11 @@ void require_direction(const char* parameter, const Direction& d) {
 
 void validate_request(const BakeRequest& r) {
   if (!is_brdf(r.model))
-    throw InvalidArgument("model", std::string(model_name(r.model)) +
-                                       " is not a BRDF and cannot be baked (one of mbk, mbk-polished, mbk-rough, "
-                                       "mbk-fg, bk, bk-modified, microfacet)");
+    throw InvalidArgument("model", std::string(model_name(r.model)) + " is not a BRDF and cannot be baked (one of " +
+                                       model_names_where([](const ModelTraits& row) { return row.is_brdf(); }) + ")");
   if (r.channels.empty()) throw InvalidArgument("wavelength", "at least one channel (wavelength) is needed");
-  if (r.layout == LutLayout::kernel && !(r.model == ModelKind::mbk || r.model == ModelKind::mbk_fg ||
-                                         r.model == ModelKind::bk || r.model == ModelKind::bk_modified))
-    throw InvalidArgument("layout", "kernel factors the ASF models only (mbk, mbk-fg, bk, bk-modified), not " +
+  if (r.layout == LutLayout::kernel && !model_traits(r.model).asf_based)
+    throw InvalidArgument("layout", "kernel factors the ASF models only (" + detail::asf_model_names() + "), not " +
                                         std::string(model_name(r.model)));
   if (r.channels.size() > 64) throw InvalidArgument("wavelength", "at most 64 channels (got " + std::to_string(r.channels.size()) + ")");
   if (r.resolution && r.target_error)
@@ -290,7 +288,7 @@ Lut bake_table(const BakeRequest& r, const std::vector<Model>& models, const std
   if (lut.layout == LutLayout::kernel) {
     lut.kernel_model = r.model;
     lut.kernel_angular = r.kernel_angular;
-    const bool fg_closed = r.model == ModelKind::mbk_fg && r.kernel_angular == KernelAngular::closed_form;
+    const bool fg_closed = detail::kernel_closed_form_reads_slopes(r.model, r.kernel_angular);
     for (const Model& m : models) {
       lut.kernel_sigma_over_lambda.push_back(m.surface().sigma_over_lambda());
       lut.kernel_lc_over_lambda.push_back(m.surface().lc_over_lambda());

@@ -326,8 +326,9 @@ void LutSampler::lookup_all(const ScatterGeometry* geometries, std::size_t count
 }
 
 bool detail::kernel_angular_all_closed(ModelKind model, KernelAngular angular) {
-  return model == ModelKind::bk || model == ModelKind::bk_modified ||
-         ((model == ModelKind::mbk || model == ModelKind::mbk_fg) && angular == KernelAngular::closed_form);
+  // An ASF model's P is all closed form where its row has one (bk, bk-modified), or when asked for.
+  const ModelTraits& row = model_traits(model);
+  return row.asf_based && (row.closed_angular != ClosedAngularForm::none || angular == KernelAngular::closed_form);
 }
 
 void detail::kernel_closed_form_span(const Lut& lut, int first_channel, int channel_count, const ScatterGeometry* geos,
@@ -355,13 +356,19 @@ void detail::kernel_closed_form_span(const Lut& lut, int first_channel, int chan
     const Complex eps = lut.kernel_index[channel].permittivity();
     double* row = out + c * channel_stride;
     detail::fresnel_d_span(eps.real(), eps.imag(), geos, count, row);  // F(theta_d)
-    if (lut.kernel_model == ModelKind::bk)
-      for (std::size_t k = 0; k < count; ++k) row[k] *= bk_geometric_factor_eq26(geos[k]);
-    else if (lut.kernel_model == ModelKind::bk_modified)
-      for (std::size_t k = 0; k < count; ++k) row[k] *= inverse_s_term_eq28(geos[k]);
-    else if (lut.kernel_model == ModelKind::mbk_fg && lut.kernel_angular == KernelAngular::closed_form)
-      for (std::size_t k = 0; k < count; ++k)  // eq. 31's G / S (Model::combine_span)
-        row[k] *= geometric_term(lut.kernel_g_term[channel], geos[k], lut.kernel_sigma_g[channel]) / s_term(geos[k]);
+    switch (model_traits(lut.kernel_model).closed_angular) {  // the rest of P in closed form (the row's)
+      case ClosedAngularForm::bk_eq26:
+        for (std::size_t k = 0; k < count; ++k) row[k] *= bk_geometric_factor_eq26(geos[k]);
+        break;
+      case ClosedAngularForm::bk_modified_eq28:
+        for (std::size_t k = 0; k < count; ++k) row[k] *= inverse_s_term_eq28(geos[k]);
+        break;
+      case ClosedAngularForm::none:
+        if (detail::kernel_closed_form_reads_slopes(lut.kernel_model, lut.kernel_angular))
+          for (std::size_t k = 0; k < count; ++k)  // eq. 31's G / S (Model::combine_span)
+            row[k] *= geometric_term(lut.kernel_g_term[channel], geos[k], lut.kernel_sigma_g[channel]) / s_term(geos[k]);
+        break;
+    }
   }
 }
 

@@ -101,6 +101,16 @@ void kernel_closed_form_span(const Lut& lut, int first_channel, int channel_coun
                              double* out, std::size_t channel_stride);
 // True when the closed-form part is all of P (the table holds 1).
 bool kernel_angular_all_closed(ModelKind model, KernelAngular angular);
+// The kernel layout's closed-form P reads sigma_g and the G term per channel (stored in the table):
+// an ASF model whose row reads sigma_g (mbk-fg's G / S, eq. 31), in the closed form.
+inline bool kernel_closed_form_reads_slopes(ModelKind model, KernelAngular angular) {
+  const ModelTraits& row = model_traits(model);
+  return row.asf_based && row.reads(kSigmaG) && angular == KernelAngular::closed_form;
+}
+// The models the kernel layout takes (their rows' asf_based), for messages: "mbk, mbk-fg, bk, bk-modified".
+inline std::string asf_model_names() {
+  return model_names_where([](const ModelTraits& row) { return row.asf_based; });
+}
 // Interpolated values of channels [first, first + channel_count) at `count` geometries with their
 // TableAngles: values[k * channel_count + c]. interleaved: LutSampler's channel-interleaved copy of
 // a trilinear table's or a P~ table's values (every channel: first_channel 0), or null.

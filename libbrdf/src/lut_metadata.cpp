@@ -177,7 +177,7 @@ std::map<std::string, std::string> lut_metadata(const Lut& lut) {
     }
     m["kernel_index"] = list_text(index);  // n0, kappa0, n1, kappa1, ...
     m["kernel_angular"] = lut.kernel_angular == KernelAngular::closed_form ? "closed-form" : "table";
-    if (lut.kernel_model == ModelKind::mbk_fg && lut.kernel_angular == KernelAngular::closed_form) {
+    if (kernel_closed_form_reads_slopes(lut.kernel_model, lut.kernel_angular)) {
       m["kernel_sigma_g"] = list_text(lut.kernel_sigma_g);
       std::string terms;
       for (std::size_t c = 0; c < lut.kernel_g_term.size(); ++c) terms += (c ? "," : "") + std::string(g_term_name(lut.kernel_g_term[c]));
@@ -238,16 +238,14 @@ void restore_from_metadata(Lut& lut, const std::map<std::string, std::string>& m
     } catch (const InvalidArgument&) {
       fail("unknown model '" + message_excerpt(get("model")) + "'");
     }
-    if (!(lut.kernel_model == ModelKind::mbk || lut.kernel_model == ModelKind::mbk_fg || lut.kernel_model == ModelKind::bk ||
-          lut.kernel_model == ModelKind::bk_modified))
-      fail("layout kernel holds an ASF model (mbk, mbk-fg, bk, bk-modified)");
+    if (!model_traits(lut.kernel_model).asf_based) fail("layout kernel holds an ASF model (" + asf_model_names() + ")");
     const auto angular = m.find("kernel_angular");  // absent in files before the closed form: table
     if (angular == m.end() || angular->second == "table") lut.kernel_angular = KernelAngular::table;
     else if (angular->second == "closed-form") lut.kernel_angular = KernelAngular::closed_form;
     else fail("kernel_angular must be 'table' or 'closed-form', got '" + message_excerpt(angular->second) + "'");
     lut.kernel_sigma_g.clear();
     lut.kernel_g_term.clear();
-    if (lut.kernel_model == ModelKind::mbk_fg && lut.kernel_angular == KernelAngular::closed_form) {
+    if (kernel_closed_form_reads_slopes(lut.kernel_model, lut.kernel_angular)) {
       // G/S at lookup: sigma_g (0: a mirror, G = 1) and the G term per channel.
       lut.kernel_sigma_g = numbers("kernel_sigma_g", lut.wavelengths_um.size());
       for (double sigma_g : lut.kernel_sigma_g)

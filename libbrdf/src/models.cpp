@@ -1,9 +1,7 @@
 #include "libbrdf/models.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
-#include <sstream>
 
 #include "angular_simd.h"
 #include "libbrdf/beckmann_kirchhoff.h"
@@ -12,56 +10,19 @@
 namespace libbrdf {
 namespace {
 
-struct ModelName {
-  ModelKind kind;
-  std::string_view name;
-};
-constexpr std::array<ModelName, 20> kModelNames{{
-    {ModelKind::fresnel, "fresnel"}, {ModelKind::q, "q"}, {ModelKind::q_ss, "q-ss"}, {ModelKind::q_sp, "q-sp"},
-    {ModelKind::q_ps, "q-ps"}, {ModelKind::q_pp, "q-pp"}, {ModelKind::s, "s"}, {ModelKind::rd, "rd"},
-    {ModelKind::g, "g"}, {ModelKind::eta_r2, "eta-r2"}, {ModelKind::asf, "asf"}, {ModelKind::k, "k"},
-    {ModelKind::r_spec, "r-spec"}, {ModelKind::mbk, "mbk"}, {ModelKind::mbk_polished, "mbk-polished"},
-    {ModelKind::mbk_rough, "mbk-rough"}, {ModelKind::mbk_fg, "mbk-fg"}, {ModelKind::bk, "bk"},
-    {ModelKind::bk_modified, "bk-modified"}, {ModelKind::microfacet, "microfacet"},
-}};
-
-// What a model reads from ModelParameters.
+// What a model reads from ModelParameters: its row's inputs, and the K table for a K factor. A
+// model that reads rho_s and sigma_g (microfacet) maps the surface statistics onto what is not
+// given (eqs 20, 25, K): with both given it needs neither sigma_s nor l_c, with rho_s no K.
 struct Needs {
   bool sigma_s = false, lc = false, index = false, k_table = false;
 };
 
-Needs needs_of(ModelKind kind, const ModelParameters& p) {
-  Needs needs;
-  switch (kind) {
-    case ModelKind::fresnel: case ModelKind::q: case ModelKind::q_ss: case ModelKind::q_sp:
-    case ModelKind::q_ps: case ModelKind::q_pp: case ModelKind::rd:
-      needs.index = true;
-      break;
-    case ModelKind::s: case ModelKind::eta_r2:
-      break;
-    case ModelKind::g:
-      needs.sigma_s = true;
-      break;
-    case ModelKind::asf: case ModelKind::k:
-      needs.sigma_s = needs.lc = true;
-      break;
-    case ModelKind::r_spec:
-      needs.sigma_s = needs.index = true;
-      break;
-    case ModelKind::mbk_polished: case ModelKind::bk: case ModelKind::bk_modified:
-      needs.sigma_s = needs.lc = needs.index = true;
-      break;
-    case ModelKind::mbk: case ModelKind::mbk_rough: case ModelKind::mbk_fg:
-      needs.sigma_s = needs.lc = needs.index = needs.k_table = true;
-      break;
-    case ModelKind::microfacet:
-      needs.index = true;
-      // Without an explicit sigma_g and rho_s the surface statistics map onto them (eqs 20, 25).
-      needs.sigma_s = needs.lc = !p.sigma_g.has_value() || !p.rho_s.has_value();
-      needs.k_table = !p.rho_s.has_value();
-      break;
-  }
-  return needs;
+bool k_replaced(const ModelTraits& row, const ModelParameters& p) { return row.reads(kRhoS) && p.rho_s.has_value(); }
+
+Needs needs_of(const ModelTraits& row, const ModelParameters& p) {
+  const bool surface_given_away = row.reads(kRhoS) && row.reads(kSigmaG) && p.rho_s && p.sigma_g;
+  return Needs{row.needs(kSigmaS) && !surface_given_away, row.needs(kLc) && !surface_given_away, row.needs(kIndex),
+               row.multiplies(kFactorK) && !k_replaced(row, p)};
 }
 
 [[noreturn]] void missing(const char* parameter, ModelKind kind, const char* hint = "") {
@@ -71,34 +32,21 @@ Needs needs_of(ModelKind kind, const ModelParameters& p) {
 }  // namespace
 
 ModelKind model_from_name(std::string_view name) {
-  for (const ModelName& entry : kModelNames)
-    if (entry.name == name) return entry.kind;
-  std::ostringstream known;
-  for (const ModelName& entry : kModelNames) known << (entry.kind == ModelKind::fresnel ? "" : ", ") << entry.name;
-  throw InvalidArgument("model", "unknown model '" + std::string(name) + "' (one of: " + known.str() + ")");
+  for (const ModelTraits& row : kModelRegistry)
+    if (row.name == name) return row.kind;
+  throw InvalidArgument("model", "unknown model '" + std::string(name) + "' (one of: " +
+                                     model_names_where([](const ModelTraits&) { return true; }) + ")");
 }
 
-std::string_view model_name(ModelKind kind) {
-  for (const ModelName& entry : kModelNames)
-    if (entry.kind == kind) return entry.name;
-  return "?";
-}
+std::string_view model_name(ModelKind kind) { return model_traits(kind).name; }
 
 std::vector<ModelKind> all_models() {
   std::vector<ModelKind> out;
-  for (const ModelName& entry : kModelNames) out.push_back(entry.kind);
+  for (const ModelTraits& row : kModelRegistry) out.push_back(row.kind);
   return out;
 }
 
-bool is_brdf(ModelKind kind) {
-  switch (kind) {
-    case ModelKind::mbk: case ModelKind::mbk_polished: case ModelKind::mbk_rough: case ModelKind::mbk_fg:
-    case ModelKind::bk: case ModelKind::bk_modified: case ModelKind::microfacet:
-      return true;
-    default:
-      return false;
-  }
-}
+bool is_brdf(ModelKind kind) { return model_traits(kind).is_brdf(); }
 
 std::vector<Model> channel_models(ModelKind kind, const std::vector<ModelParameters>& channels) {
   std::vector<Model> models;
@@ -108,7 +56,8 @@ std::vector<Model> channel_models(ModelKind kind, const std::vector<ModelParamet
 }
 
 Model::Model(ModelKind kind, const ModelParameters& p) : kind_(kind), params_(p) {
-  const Needs needs = needs_of(kind, p);
+  const ModelTraits& row = model_traits(kind);
+  const Needs needs = needs_of(row, p);
   require_positive("wavelength", p.wavelength_um, "um");
   if (needs.sigma_s && !p.sigma_s_um) missing("sigma_s", kind);
   if (needs.lc && !p.lc_um) missing("lc", kind);
@@ -128,8 +77,7 @@ Model::Model(ModelKind kind, const ModelParameters& p) : kind_(kind), params_(p)
   if (!(p.series.relative_tolerance > 0.0 && p.series.relative_tolerance < 1e-3))
     throw InvalidArgument("series tolerance", "must be in (0, 1e-3)");
 
-  const bool uses_g_term = kind == ModelKind::microfacet || kind == ModelKind::mbk_fg;
-  if (uses_g_term || kind == ModelKind::microfacet) {
+  if (row.reads(kSigmaG)) {  // given, or mapped from the surface
     if (p.sigma_g) {
       sigma_g_ = *p.sigma_g;
     } else {
@@ -154,14 +102,7 @@ double Model::evaluate(const ScatterAngles& angles) const { return evaluate(make
 double Model::renormalization(double theta_i) const { return k_table_ ? (*k_table_)(theta_i) : 1.0; }
 
 double Model::specular_reflectance(double theta_i) const {
-  switch (kind_) {
-    case ModelKind::microfacet: case ModelKind::fresnel: case ModelKind::q: case ModelKind::q_ss:
-    case ModelKind::q_sp: case ModelKind::q_ps: case ModelKind::q_pp: case ModelKind::s: case ModelKind::rd:
-    case ModelKind::eta_r2:
-      return 0.0;
-    default:
-      break;
-  }
+  if (!model_traits(kind_).spike) return 0.0;
   const double ci = std::cos(theta_i);
   // The m = 0 term of the series: a delta of weight F(ti) exp(-g(ti, ti)) (conventions.md).
   return fresnel_reflectance(permittivity_, ci) * std::exp(-roughness_g(surface_.sigma_over_lambda(), ci, ci));
@@ -171,43 +112,29 @@ double Model::evaluate(const ScatterGeometry& geo) const { return evaluate_impl(
 
 double Model::evaluate(const ScatterGeometry& geo, double asf) const { return evaluate_impl(geo, &asf); }
 
-bool Model::uses_asf() const {
-  return kind_ == ModelKind::mbk || kind_ == ModelKind::mbk_fg || kind_ == ModelKind::bk || kind_ == ModelKind::bk_modified;
-}
+bool Model::uses_asf() const { return model_traits(kind_).asf_based; }
 
 double Model::asf_at(const ScatterGeometry& geo) const {
   return asf_auto(asf_arguments(surface_, geo), params_.tolerance, nullptr, params_.series);
 }
 
 namespace {
-// Which factors a model multiplies (the formulas in Model::combine_span).
+// Which factors a model multiplies (its row; the formulas in Model::combine_span): K not where a
+// given rho_s replaces it.
 struct FactorNeeds {
   bool k = false, q_bar = false, fresnel_d = false, asf = false;
 };
-FactorNeeds factor_needs(ModelKind kind, const ModelParameters& p, double sigma_g) {
-  FactorNeeds needs;
-  switch (kind) {
-    case ModelKind::fresnel: needs.fresnel_d = true; break;
-    case ModelKind::q: case ModelKind::mbk_polished: needs.q_bar = true; break;
-    case ModelKind::asf: needs.asf = true; break;
-    case ModelKind::mbk: needs.k = needs.q_bar = needs.asf = true; break;
-    case ModelKind::mbk_rough: needs.k = needs.q_bar = true; break;
-    case ModelKind::mbk_fg: needs.k = needs.fresnel_d = needs.asf = true; break;
-    case ModelKind::bk: case ModelKind::bk_modified: needs.fresnel_d = needs.asf = true; break;
-    case ModelKind::microfacet:
-      needs.k = !p.rho_s.has_value();  // rho_s = K (conventions.md)
-      needs.fresnel_d = sigma_g > 0.0;
-      break;
-    default: break;  // the other quantities are computed whole by combine_span()
-  }
-  return needs;
+FactorNeeds factor_needs(ModelKind kind, const ModelParameters& p) {
+  const ModelTraits& row = model_traits(kind);
+  return FactorNeeds{row.multiplies(kFactorK) && !k_replaced(row, p), row.multiplies(kFactorQBar),
+                     row.multiplies(kFactorFresnelD), row.multiplies(kFactorAsf)};
 }
 // theta_i only for the quantities tabulated over it (K, R_spec): an atan2 the others skip.
 double theta_i_of(const ScatterGeometry& geo) { return std::atan2(geo.sin_theta_i, geo.cos_theta_i); }
 }  // namespace
 
 double Model::evaluate_impl(const ScatterGeometry& geo, const double* asf_given) const {
-  const FactorNeeds needs = factor_needs(kind_, params_, sigma_g_);
+  const FactorNeeds needs = factor_needs(kind_, params_);
   double k = 1.0, q_bar = 0.0, fresnel_d = 0.0, asf = 0.0;
   if (needs.k) k = renormalization(theta_i_of(geo));
   if (needs.q_bar) q_bar = stover_q(permittivity_, geo).q_bar();
@@ -219,7 +146,7 @@ double Model::evaluate_impl(const ScatterGeometry& geo, const double* asf_given)
 }
 
 void Model::evaluate_many(const ScatterGeometry* geos, std::size_t count, double* out, const double* asf) const {
-  const FactorNeeds needs = factor_needs(kind_, params_, sigma_g_);
+  const FactorNeeds needs = factor_needs(kind_, params_);
   const double eps_re = permittivity_.real(), eps_im = permittivity_.imag();
   constexpr std::size_t kBlock = 256;
   double k[kBlock], q_bar[kBlock], fresnel_d[kBlock], a[kBlock];
@@ -247,6 +174,19 @@ void Model::combine_span(const ScatterGeometry* geos, std::size_t count, const F
     for (std::size_t j = 0; j < count; ++j) out[j] = formula(j);
   };
   const double sigma_over_lambda = surface_.sigma_over_lambda();
+  // Eq. 2's surface term with a facet reflectance R (F(td) in the paper's form) + Lambertian part.
+  auto facet_lobe = [&](const double* reflectance) {
+    return each([&](std::size_t j) {
+      const ScatterGeometry& geo = geos[j];
+      const double rho_s = params_.rho_s ? *params_.rho_s : f.k[j];  // rho_s = K
+      double specular = 0.0;
+      if (sigma_g_ > 0.0) {
+        specular = rho_s * reflectance[j] * gaussian_facet_distribution(geo.cos_theta_h, sigma_g_) *
+                   geometric_term(params_.g_term, geo, sigma_g_) / (4.0 * geo.cos_theta_i * geo.cos_theta_s);
+      }
+      return specular + params_.rho_d / kPi;
+    });
+  };
   switch (kind_) {
     case ModelKind::fresnel: return each([&](std::size_t j) { return f.fresnel_d[j]; });
     case ModelKind::q: return each([&](std::size_t j) { return f.q_bar[j]; });
@@ -283,19 +223,9 @@ void Model::combine_span(const ScatterGeometry* geos, std::size_t count, const F
       return each([&](std::size_t j) { return f.fresnel_d[j] * bk_geometric_factor_eq26(geos[j]) * f.asf[j]; });
     case ModelKind::bk_modified:  // F(td) (1/S) A, eq. 28
       return each([&](std::size_t j) { return f.fresnel_d[j] * inverse_s_term_eq28(geos[j]) * f.asf[j]; });
-    case ModelKind::microfacet:  // eq. 2 surface term + Lambertian
-      return each([&](std::size_t j) {
-        const ScatterGeometry& geo = geos[j];
-        const double rho_s = params_.rho_s ? *params_.rho_s : f.k[j];  // rho_s = K
-        double specular = 0.0;
-        if (sigma_g_ > 0.0) {
-          specular = rho_s * f.fresnel_d[j] * gaussian_facet_distribution(geo.cos_theta_h, sigma_g_) *
-                     geometric_term(params_.g_term, geo, sigma_g_) / (4.0 * geo.cos_theta_i * geo.cos_theta_s);
-        }
-        return specular + params_.rho_d / kPi;
-      });
+    case ModelKind::microfacet: return facet_lobe(f.fresnel_d);  // eqs 2, 3, 7
+    case ModelKind::microfacet_q: return facet_lobe(f.q_bar);    // Stover's Qbar = Q/2 in place of F
   }
-  std::fill(out, out + count, 0.0);
 }
 
 }  // namespace libbrdf

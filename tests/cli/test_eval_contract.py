@@ -126,12 +126,14 @@ class EvalOutput(unittest.TestCase):
             self.assertEqual(out, reference, data)
 
     def test_every_model_name_is_accepted(self):
-        # The list the CLI reports for an unknown name is exactly the documented one.
+        # The list the CLI reports for an unknown name holds every documented one (and the models
+        # added to the registry since: each is evaluated here too).
         rc, _, err = run(["--model", "no-such-model", "--at", "10,10,180"])
         self.assertEqual(rc, 2)
         listed = re.search(r"one of: ([^)]*)\)", err).group(1).split(", ")
-        self.assertEqual(sorted(listed), sorted(MODELS))
-        for model in MODELS:
+        self.assertLessEqual(set(MODELS), set(listed))
+        self.assertEqual(len(listed), len(set(listed)))
+        for model in listed:
             rc, out, err = run(["--model", model] + SURFACE + ["--at", "30,30,180", "--at", "20,50,90", "--at", "80,89.5,0"])
             self.assertEqual(rc, 0, model + ": " + err)
             _, rows = parse_csv(out)

@@ -114,7 +114,7 @@ class NoSilentGuess(Case):
         for model, option, value in [("mbk", "--rho-d", "0.3"), ("mbk", "--rho-s", "1"), ("bk", "--g-term", "vgroove"),
                                      ("asf", "--sigma-g", "0.2"), ("bk-modified", "--sigma-g-mapping", "rough")]:
             self.assert_usage_error(["eval", "--model", model] + surface + [option, value],
-                                    [option[2:], "applies only to --model microfacet", model])
+                                    [option[2:], "applies only to --model", "microfacet", model])
         self.assert_usage_error(["bake", "--model", "mbk"] + ROUGH + ["--rho-d", "0.5", "-o", "/tmp/never.exr"],
                                 ["rho-d", "microfacet"])
         self.assertFalse(os.path.exists("/tmp/never.exr"))

@@ -151,6 +151,29 @@ TEST(Models, MbkFgTendsToMicrofacetForVeryRoughSurfacesEq29) {
   EXPECT_GT(compared, 50);
 }
 
+// microfacet-q is microfacet with Qbar in place of F(td): their ratio is Qbar / F(td) at every
+// geometry (rho_d = 0), and 1 at specular (Qbar = F there, eq. 22's 2F/Q = 1).
+TEST(Models, MicrofacetQIsMicrofacetWithQbarForF) {
+  for (const Case& c : reciprocity_cases()) {
+    const Model micro(ModelKind::microfacet, c.params), micro_q(ModelKind::microfacet_q, c.params);
+    const Complex eps = c.params.index->permittivity();
+    int compared = 0;
+    for_random_pairs(200, [&](const ScatterAngles& a, const ScatterAngles&) {
+      const ScatterGeometry geo = make_scatter_geometry(a);
+      const double f = micro.evaluate(a);
+      if (!(f > kTiny)) return;
+      const double ratio = stover_q(eps, geo).q_bar() / fresnel_reflectance(eps, geo.cos_theta_d);
+      EXPECT_NEAR(micro_q.evaluate(a) / f, ratio, 1e-12 * ratio) << c.name << " " << a.theta_i << " " << a.theta_s << " " << a.phi_s;
+      ++compared;
+    });
+    EXPECT_GT(compared, 100) << c.name;
+    for (double t : {0.0, 20.0, 60.0}) {
+      const ScatterAngles specular{deg(t), deg(t), kPi};
+      EXPECT_NEAR(micro_q.evaluate(specular), micro.evaluate(specular), 1e-12 * micro.evaluate(specular)) << c.name << " " << t;
+    }
+  }
+}
+
 // The m = 0 term: R_spec(ti) = F(ti) exp(-g(ti, ti)).
 TEST(Models, SpecularSpikeIsFresnelTimesExpMinusG) {
   const ComplexIndex index{0.25, 3.0};

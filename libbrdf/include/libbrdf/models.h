@@ -1,17 +1,8 @@
 #pragma once
 // Every model of the paper behind one interface: a named quantity evaluated at
-// (theta_i, theta_s, phi_s). Conventions: docs/conventions.md (all BRDFs use Qbar).
-//
-// BRDFs (1/sr):
-//   mbk           K(ti) Qbar A                        eq. 11 x Q, K of eq. 13
-//   mbk-polished  Qbar A_polished (K = 1, e^-g = 1)   eq. 14
-//   mbk-rough     K Qbar A_rough                      eq. 15
-//   mbk-fg        K F(td) G / S * A                   eq. 31's form
-//   bk            F(td) F_bk^2 A                      eq. 26 (original BK; not reciprocal)
-//   bk-modified   F(td) (1/S) A                       eq. 28 (the paper's proposal)
-//   microfacet    rho_s F(td) D_g G / (4 ci cs) + rho_d/pi   eqs 2, 3, 7
-// Other quantities: fresnel F(td), q (Qbar), q-ss/q-sp/q-ps/q-pp, s (eq. 22), rd (eq. 23),
-// g (eq. 12), eta-r2 (eq. 10), asf (eq. 11, K = 1), k (eq. 13, computed directly), r-spec.
+// (theta_i, theta_s, phi_s). Which models there are, their formulas, equations, inputs, options
+// and factors: one row each in model_registry.h. Conventions: docs/conventions.md (all BRDFs
+// use Qbar).
 #include <cstddef>
 #include <memory>
 #include <optional>
@@ -23,22 +14,27 @@
 #include "libbrdf/geometry.h"
 #include "libbrdf/mbk_series.h"
 #include "libbrdf/microfacet.h"
+#include "libbrdf/model_registry.h"
 #include "libbrdf/renormalization.h"
 #include "libbrdf/surface.h"
 
 namespace libbrdf {
 
-enum class ModelKind {
-  fresnel, q, q_ss, q_sp, q_ps, q_pp, s, rd, g, eta_r2, asf, k, r_spec,
-  mbk, mbk_polished, mbk_rough, mbk_fg, bk, bk_modified, microfacet
-};
-
 // Command-line names ("mbk-polished", ...). Throws InvalidArgument("model", list) when unknown.
 ModelKind model_from_name(std::string_view name);
 std::string_view model_name(ModelKind kind);
 std::vector<ModelKind> all_models();
-// True for the BRDFs (values in 1/sr), the models a bake accepts.
+// True for the BRDFs (values in 1/sr), the models a bake accepts (model_traits(kind).is_brdf()).
 bool is_brdf(ModelKind kind);
+// The names of the models whose row satisfies `keep`, joined by `separator` in the rows' order
+// ("mbk, mbk-fg, bk, bk-modified"): for messages that list the models an option or layout takes.
+template <typename Predicate>
+std::string model_names_where(Predicate keep, std::string_view separator = ", ") {
+  std::string out;
+  for (const ModelTraits& row : kModelRegistry)
+    if (keep(row)) out += (out.empty() ? "" : std::string(separator)) + std::string(row.name);
+  return out;
+}
 
 // Which of eqs 20 / 25 maps sigma_s, l_c to the microfacet sigma_g.
 enum class SigmaGMapping {
@@ -77,7 +73,7 @@ class Model {
   // For callers that reuse one ASF value across geometries with equal (g, c) (eq. 12 and
   // c = pi^2 (l_c/lambda)^2 eta_r^2), e.g. a bake along phi_d at fixed (theta_h, theta_d), where
   // cos ti + cos ts = 2 cos td cos th and eta_r = 2 cos td sin th do not depend on phi_d.
-  // uses_asf(): the model contains the ASF A of eq. 11 (mbk, mbk-fg, bk, bk-modified);
+  // uses_asf(): the model contains the ASF A of eq. 11 (its row's asf_based);
   // asf_at(geo): the A that evaluate() uses there; evaluate(geo, asf): evaluate() with A given.
   bool uses_asf() const;
   double asf_at(const ScatterGeometry& geo) const;
@@ -94,7 +90,7 @@ class Model {
   void evaluate_many(const ScatterGeometry* geos, std::size_t count, double* out, const double* asf = nullptr) const;
 
   // Specular spike reflectance R_spec(ti) = F(ti) exp(-g(ti, ti)) (a delta lobe, not a BRDF
-  // value), for the models that have one (the MBK and BK families); 0 otherwise.
+  // value), for the models that have one (their row's spike: the MBK and BK families); 0 otherwise.
   double specular_reflectance(double theta_i_rad) const;
   // K(ti) as used by this model (table), 1 where the model has no K.
   double renormalization(double theta_i_rad) const;
