@@ -35,6 +35,7 @@ inline Triple operator-(Triple a) { return {-a.x, -a.y, -a.z}; }
 inline Triple operator*(Triple a, Triple b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
 inline Triple operator*(Triple a, float s) { return {a.x * s, a.y * s, a.z * s}; }
 inline Triple operator*(float s, Triple a) { return a * s; }
+inline Triple& operator+=(Triple& a, Triple b) { return a = a + b; }
 inline bool operator==(Triple a, Triple b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
 inline bool operator!=(Triple a, Triple b) { return !(a == b); }
 

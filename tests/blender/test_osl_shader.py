@@ -165,7 +165,10 @@ def run_case(exe, index, request, path, description, strings, rng, max_error):
         check(srel.max() <= 5e-3, f"{request.name} channel {rgb}: OSL SpecularWeight vs r-spec, max rel {srel.max():.2e}")
     rel = np.concatenate(errors)
     median, p95, worst = np.median(rel), np.percentile(rel, 95), rel.max()
-    targets = (0.003, 0.015, max_error)
+    # The kernel form's OSL reads P~ tricubic (Catmull-Rom, as the C++ table form): median 1e-4;
+    # the rusinkiewicz atlas (microfacet) trilinear, as the node graph: LUT mode's 0.3%.
+    kernel = description["lut"].get("layout") == "kernel"
+    targets = (1e-4, 1e-3, 2e-3) if kernel else (0.003, 0.015, max_error)
     check(rel.size >= 300 and median <= targets[0] and p95 <= targets[1] and worst <= targets[2],
           f"{request.name}: OSL vs brdf eval ({model}), {rel.size} values, median {median:.2e}, p95 {p95:.2e}, "
           f"max {worst:.2e} <= {targets}")
@@ -177,7 +180,10 @@ def run_case(exe, index, request, path, description, strings, rng, max_error):
                                                             "Sun Color": np.array(colour + (1.0,))}, loaded)
     scale = np.maximum(np.abs(nodes_out["Radiance"]), 1e-3 * np.abs(nodes_out["Radiance"]).max())
     diff = np.abs(nodes_out["Radiance"] - radiance) / scale
-    check(diff.max() <= 1e-4, f"{request.name}: OSL and node graph agree: max relative difference {diff.max():.1e} <= 1e-4")
+    # Same images, same formulas: they differ by P~'s interpolation only (tricubic in the kernel
+    # form's OSL, trilinear in the node graph, whose own error test_nodegraph.py bounds).
+    agree = 3e-3 if kernel else 1e-4
+    check(diff.max() <= agree, f"{request.name}: OSL and node graph agree: max relative difference {diff.max():.1e} <= {agree:g}")
     sdiff = np.abs(nodes_out["Specular Weight"] - specular) / np.maximum(specular, 1e-6)
     check(sdiff.max() <= 1e-4, f"{request.name}: OSL and node graph R_spec agree: {sdiff.max():.1e} <= 1e-4")
 
