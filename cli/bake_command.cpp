@@ -17,6 +17,7 @@
 #include "interrupt.h"
 #include "libbrdf/error.h"
 #include "libbrdf/lut.h"
+#include "libbrdf/image_file.h"
 #include "model_options.h"
 
 namespace brdf_cli {
@@ -76,7 +77,7 @@ int run_bake(const BakeOptions& o) {
   const bool merl_output = ends_with(o.output, ".binary");
   if (!merl_output && !ends_with(o.output, ".exr"))
     throw InvalidArgument("output", "must end in .exr (OpenEXR) or .binary (MERL) (got '" + libbrdf::message_excerpt(o.output) + "')");
-  require_writable_output(o.output, "output");  // before any work, not after the bake
+  libbrdf::require_writable_output(o.output, "output");  // before any work, not after the bake
 
   libbrdf::BakeRequest request;
   request.model = parse_model_kind(o.model);

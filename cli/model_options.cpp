@@ -97,20 +97,6 @@ void add_value_checks(CLI::App& app) {
   for (CLI::App* sub : app.get_subcommands({})) add_value_checks(*sub);
 }
 
-void require_writable_output(const std::string& output, const char* parameter, bool create_directory) {
-  namespace fs = std::filesystem;
-  const fs::path path(output);
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) throw InvalidArgument(parameter, "'" + libbrdf::message_excerpt(output) + "' is a directory, not a file name");
-  const fs::path directory = path.has_parent_path() ? path.parent_path() : fs::path(".");
-  if (create_directory && !fs::is_directory(directory, ec) && (fs::create_directories(directory, ec), ec))
-    throw InvalidArgument(parameter, "cannot create directory '" + libbrdf::message_excerpt(directory.string()) + "': " + ec.message());
-  if (!fs::is_directory(directory, ec))
-    throw InvalidArgument(parameter, "directory '" + libbrdf::message_excerpt(directory.string()) + "' does not exist");
-  if (::access(directory.c_str(), W_OK | X_OK) != 0)
-    throw InvalidArgument(parameter, "directory '" + libbrdf::message_excerpt(directory.string()) + "' is not writable");
-}
-
 libbrdf::Direction parse_direction(const std::string& text, const char* parameter) {
   const std::vector<double> v = parse_number_list(text, 3, parameter);
   if (!(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] > 0.0)) throw InvalidArgument(parameter, "must be a nonzero vector X,Y,Z");

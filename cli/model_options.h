@@ -44,10 +44,6 @@ std::uint64_t parse_whole_number(const std::string& text, std::uint64_t lo, std:
 // file header or an OSL string literal). Call once after every option is registered.
 void add_value_checks(CLI::App& app);
 
-// Checks, before any work, that `output` can be created: its directory exists (or, with
-// create_directory, is created with its parents, as `export povray` does for its -o) and is
-// writable, and `output` itself is not a directory. Throws InvalidArgument naming `parameter`.
-void require_writable_output(const std::string& output, const char* parameter, bool create_directory = false);
 
 // A world direction "X,Y,Z" (nonzero; normalized by its users); throws InvalidArgument naming `parameter`.
 libbrdf::Direction parse_direction(const std::string& text, const char* parameter);

@@ -1,8 +1,6 @@
 // export_material (blender_export.h): the body of `brdf export blender`, shared with Python.
 #include "exporters/blender_export.h"
 
-#include <unistd.h>
-
 #include <filesystem>
 #include <sstream>
 
@@ -31,19 +29,6 @@ std::string channels_summary(const std::vector<ModelParameters>& channels) {
     if (p.index) out << ", " << p.index->n << ", " << p.index->kappa;
   }
   return out.str();
-}
-
-// NAME.json's directory: created when missing (as `brdf export povray` does), then writable.
-void prepare_output_directory(const fs::path& output) {
-  std::error_code ec;
-  if (fs::is_directory(output, ec))
-    throw InvalidArgument("output", "'" + message_excerpt(output.string()) + "' is a directory, not a file name");
-  const fs::path directory = output.has_parent_path() ? output.parent_path() : fs::path(".");
-  fs::create_directories(directory, ec);
-  if (!fs::is_directory(directory, ec))
-    throw InvalidArgument("output", "directory '" + message_excerpt(directory.string()) + "' cannot be created");
-  if (::access(directory.c_str(), W_OK | X_OK) != 0)
-    throw InvalidArgument("output", "directory '" + message_excerpt(directory.string()) + "' is not writable");
 }
 
 void validate(const MaterialExportRequest& r) {
@@ -90,7 +75,7 @@ void fit_lobes(const MaterialExportRequest& r, const std::vector<Model>& models,
 MaterialExport export_material(const MaterialExportRequest& r) {
   validate(r);
   const fs::path output(r.output);
-  prepare_output_directory(output);
+  require_writable_output(output.string(), "output", /*create_directory=*/true);  // bl/x.json creates bl/
   MaterialExport result;
   std::vector<std::string>& written = result.written;
 

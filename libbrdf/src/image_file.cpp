@@ -1,5 +1,7 @@
 #include "libbrdf/image_file.h"
 
+#include "libbrdf/error.h"
+
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
@@ -177,6 +179,20 @@ void write_file_atomically(const std::string& path, const std::string& suffix,
     registry().temporaries.erase(temporary.string());
   }
   if (!failure.empty()) throw LutFileError(failure);
+}
+
+void require_writable_output(const std::string& output, const char* parameter, bool create_directory) {
+  namespace fs = std::filesystem;
+  const fs::path path(output);
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw InvalidArgument(parameter, "'" + message_excerpt(output) + "' is a directory, not a file name");
+  const fs::path directory = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  if (create_directory && !fs::is_directory(directory, ec) && (fs::create_directories(directory, ec), ec))
+    throw InvalidArgument(parameter, "cannot create directory '" + message_excerpt(directory.string()) + "': " + ec.message());
+  if (!fs::is_directory(directory, ec))
+    throw InvalidArgument(parameter, "directory '" + message_excerpt(directory.string()) + "' does not exist");
+  if (::access(directory.c_str(), W_OK | X_OK) != 0)
+    throw InvalidArgument(parameter, "directory '" + message_excerpt(directory.string()) + "' is not writable");
 }
 
 void write_text_file_atomically(const std::string& path, const std::string& text) {

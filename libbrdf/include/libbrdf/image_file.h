@@ -26,6 +26,11 @@ void write_file_atomically(const std::string& path, const std::string& suffix,
                            const std::function<void(const std::string& temporary_path)>& write_to);
 void write_text_file_atomically(const std::string& path, const std::string& text);
 
+// Checks, before any work, that a file `output` can be written: not a directory, its directory
+// exists (with create_directory, is created with its parents first) and is writable. Throws
+// InvalidArgument naming `parameter` (the CLI's option, the Python keyword).
+void require_writable_output(const std::string& output, const char* parameter, bool create_directory = false);
+
 // Interruption. Every temporary of write_file_atomically is in a process-wide registry from
 // before it is created until it is renamed into place or removed, and every rename happens while
 // the registry's lock is held. A program that takes SIGINT/SIGTERM in a thread of its own (brdf:
