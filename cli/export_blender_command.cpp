@@ -81,7 +81,9 @@ int run_export_blender(const ExportBlenderOptions& o) {
     if (!o.resolution.empty()) throw InvalidArgument("resolution", "--mode fit bakes no table (give --target-error for the fit)");
     const std::vector<libbrdf::Model> models = libbrdf::channel_models(kind, e.channels);
     fit_request.shape = libbrdf::fit::LobeShape::beckmann;
+    fit_request.view_dependent_roughness = true;  // Cycles: alpha(N.V) per lobe (fit.h, lobe_alpha)
     lobes = libbrdf::fit::fit_native_lobes(models, fit_request);
+    fit_request.view_dependent_roughness = false;
     fit_request.shape = libbrdf::fit::LobeShape::ggx;
     // EEVEE: signed GGX lobes (lit one by one through Shader to RGB in the add-on): a non-negative GGX
     // mixture cannot fall off like MBK's Gaussian lobe (measured in EEVEE: median error ~45%).
@@ -96,6 +98,13 @@ int run_export_blender(const ExportBlenderOptions& o) {
       std::cerr << "fit (" << (f == &lobes ? "Cycles, Beckmann" : "EEVEE, GGX") << "): " << f->lobes.size()
                 << " lobes, per-pixel error median " << 100.0 * f->quality.median << "%, p95 " << 100.0 * f->quality.p95
                 << "% (target " << 100.0 * fit_request.target_error << "%" << (f->target_met ? "" : ", not met") << ")\n";
+    for (const auto* f : {&lobes, &lobes_eevee}) {
+      std::cerr << "  by sun-camera angle (" << (f == &lobes ? "Cycles" : "EEVEE") << "), median / p95:";
+      for (const libbrdf::fit::SunAngleQuality& b : f->by_sun_angle)
+        std::cerr << " " << b.from_deg << "-" << b.to_deg << " deg " << 100.0 * b.quality.median << "% / "
+                  << 100.0 * b.quality.p95 << "%;";
+      std::cerr << "\n";
+    }
   }
 
   std::vector<std::string> written;

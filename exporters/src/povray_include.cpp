@@ -91,6 +91,37 @@ std::string fit_textures(const std::string& N, const FinishFit& fit) {
   return out.str();
 }
 
+// The header's lines of the fit's error per band of sun-camera angle (fit.h, kSunAngleBands).
+std::string sun_angle_lines(const fit::NativeFit& lobes) {
+  std::ostringstream out;
+  out << "//   Error by the angle between the light and the camera (a light in a band whose median exceeds 5% or p95\n"
+      << "//   20% renders that error, not the target):\n";
+  for (const fit::SunAngleQuality& b : lobes.by_sun_angle)
+    out << "//     " << number(b.from_deg, 3) << "-" << number(b.to_deg, 3) << " deg: median " << percent(b.quality.median)
+        << ", p95 " << percent(b.quality.p95) << "\n";
+  return out.str();
+}
+
+// NAME_Fit_Sun_Angle_Deg (band edges) and NAME_Fit_Error_Median_By_Angle / _P95_By_Angle (one per band).
+std::string sun_angle_declarations(const std::string& N, const fit::NativeFit& lobes) {
+  if (lobes.by_sun_angle.empty()) return "";
+  std::ostringstream edges, medians, p95s;
+  edges << number(lobes.by_sun_angle.front().from_deg, 6);
+  for (std::size_t b = 0; b < lobes.by_sun_angle.size(); ++b) {
+    const fit::SunAngleQuality& q = lobes.by_sun_angle[b];
+    edges << ", " << number(q.to_deg, 6);
+    medians << (b ? ", " : "") << number(q.quality.median, 6);
+    p95s << (b ? ", " : "") << number(q.quality.p95, 6);
+  }
+  const std::size_t bands = lobes.by_sun_angle.size();
+  std::ostringstream out;
+  out << "// Per band of light-camera angle: edges (deg), then the median and p95 error in each band.\n"
+      << "#declare " << N << "_Fit_Sun_Angle_Deg = array[" << bands + 1 << "] {" << edges.str() << "};\n"
+      << "#declare " << N << "_Fit_Error_Median_By_Angle = array[" << bands << "] {" << medians.str() << "};\n"
+      << "#declare " << N << "_Fit_Error_P95_By_Angle = array[" << bands << "] {" << p95s.str() << "};\n";
+  return out.str();
+}
+
 }  // namespace
 
 void validate_include_name(const std::string& name) {
@@ -165,11 +196,12 @@ std::string include_text(const std::string& name, ModelKind model, const std::ve
       << "// " << N << "_Fit: " << fit.lobes.lobes.size() << " Blinn or Phong lobe(s) (specular or phong, metallic 1, pigment following N.V through\n"
       << "//   slope { " << N << "_View_Direction }) averaged by a texture_map, + reflection fitted to R_spec = F exp(-g).\n"
       << "//   Measured per pixel and channel against the exact radiance f_r cos(theta_i) on orthographic spheres lit\n"
-      << "//   by one sun at 10, 40, 70, 100 deg from the camera (theta_i, theta_s <= 70 deg, values above 1% of the maximum):\n"
-      << "//   median " << percent(fit.lobes.quality.median) << ", p95 " << percent(fit.lobes.quality.p95) << ", max "
-      << percent(fit.lobes.quality.max) << " (target p95 " << percent(fit.lobes.target_error)
-      << (fit.lobes.target_met ? "" : ", not met") << "); peak (N = H) fit/exact " << vector3(fit.peak_ratio, 3)
-      << "; reflection rms " << number(fit.reflection_rms_error, 3) << ".\n"
+      << "//   by one sun at two angles from the camera in each band below (theta_i, theta_s <= 70 deg, values above 1%\n"
+      << "//   of the maximum), all bands: median " << percent(fit.lobes.quality.median) << ", p95 "
+      << percent(fit.lobes.quality.p95) << ", max " << percent(fit.lobes.quality.max) << " (target p95 "
+      << percent(fit.lobes.target_error) << (fit.lobes.target_met ? "" : ", not met") << "); peak (N = H) fit/exact "
+      << vector3(fit.peak_ratio, 3) << "; reflection rms " << number(fit.reflection_rms_error, 3) << ".\n"
+      << sun_angle_lines(fit.lobes)
       << "\n"
       << "#ifndef(" << N << "_Inc_Temp)\n"
       << "#declare " << N << "_Inc_Temp = version;\n"
@@ -206,6 +238,7 @@ std::string include_text(const std::string& name, ModelKind model, const std::ve
       << "// Source: least-squares fit of the same model (see header).\n"
       << "#declare " << N << "_Fit_Error_Median = " << number(fit.lobes.quality.median, 6) << ";\n"
       << "#declare " << N << "_Fit_Error_P95 = " << number(fit.lobes.quality.p95, 6) << ";\n"
+      << sun_angle_declarations(N, fit.lobes)
       << fit_textures(N, fit)
       << "\n"
       << "#version " << N << "_Inc_Temp;\n"

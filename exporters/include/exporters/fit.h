@@ -62,7 +62,9 @@ inline constexpr int kColourDegree = 5;
 inline constexpr int kColourTerms = kColourDegree + 1;
 
 struct Lobe {
-  double roughness = 0.1;  // ggx: alpha; blinn: exponent n
+  double roughness = 0.1;  // ggx/beckmann: alpha at mu_v = 1 (lobe_alpha); blinn: exponent n
+  // ggx/beckmann: alpha(mu_v) = roughness mu_v^-roughness_slope (lobe_alpha; 0: a fixed alpha).
+  double roughness_slope = 0.0;
   double specular = 1.0;   // blinn: S (shared by the channels); ggx: 1
   bool phong = false;      // blinn shape only: the Phong highlight (R.L)^n instead of (N.H)^n
   // Per channel, the Bernstein coefficients (>= 0) of the colour in mu_v = N.V (ggx: the BSDF's
@@ -73,6 +75,12 @@ struct Lobe {
 // B_k(mu) = C(D, k) mu^k (1 - mu)^(D - k), D = kColourDegree.
 double bernstein(int k, double mu);
 double lobe_colour(const Lobe& lobe, int channel, double mu_v);
+// A ggx/beckmann lobe's alpha at mu_v = N.V: roughness max(mu_v, kMinViewCosine)^-roughness_slope,
+// at most 1 (Blender's largest roughness). Why N.V: MBK's polished lobe is a Gaussian in
+// eta = |N x (L + V)| = 2 cos(theta_d) sin(theta_h), so its width in theta_h goes as 1/cos(theta_d),
+// and near the lobe's peak N = H, N.V = cos(theta_d); the renderer knows N.V for any light.
+inline constexpr double kMinViewCosine = 0.05;
+double lobe_alpha(const Lobe& lobe, double mu_v);
 // POV-Ray 3.7's metallic weight F_m at N.L (empirical formula of its source).
 double povray_metallic_weight(double n_dot_l);
 // One lobe's radiance per unit irradiance (both cosines > 0; else 0).
@@ -84,11 +92,22 @@ struct FitQuality {
   double lowest = 0.0;  // min over all lit, visible pixels of fit / scene maximum (< 0: dips below 0)
 };
 
+// Bands of the angle between the sun and the camera (deg) in which the fit's error is measured
+// and stated (NativeFit::by_sun_angle); the fit's scenes reach 138 deg (theta_i, theta_s <= 70 deg
+// leaves pixels only below 140 deg).
+inline constexpr std::array<double, 6> kSunAngleBands = {0.0, 30.0, 60.0, 90.0, 120.0, 140.0};
+
+struct SunAngleQuality {
+  double from_deg = 0.0, to_deg = 0.0;  // sun-camera angle band
+  FitQuality quality;                   // on two suns inside it (at 30% and 70% of the band)
+};
+
 struct NativeFit {
   LobeShape shape = LobeShape::ggx;
   std::vector<Lobe> lobes;
   FitQuality quality;                  // of the chosen lobe count, on the validation scenes
   std::vector<FitQuality> tried;       // quality with 1, 2, ... lobes (the last is the chosen one)
+  std::vector<SunAngleQuality> by_sun_angle;  // the chosen fit's quality per band of kSunAngleBands
   double target_error = 0.0;
   bool target_met = false;
   int channels = 3;
@@ -109,6 +128,9 @@ struct FitRequest {
   // not render as GGX (EEVEE 3.4's LTC: Blender roughness 0.375-0.875, README); every lobe stays out
   // of it. Default: none.
   double excluded_alpha_low = 0.0, excluded_alpha_high = 0.0;
+  // ggx/beckmann: fit each lobe's roughness_slope too (alpha following N.V, lobe_alpha). Default:
+  // fixed alphas (EEVEE: a varying alpha would cross the excluded band).
+  bool view_dependent_roughness = false;
 };
 
 // The default --target-error of `brdf export blender --mode fit` and `brdf export povray`.
