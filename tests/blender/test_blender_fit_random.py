@@ -8,13 +8,12 @@ point sampling (1 sample per pixel at its centre). Compared: every channel of ev
 object (mask eroded by 2) with theta_i, theta_s <= 70 deg and every channel above 1% of the render's
 maximum; relative error |render - f_r cos(theta_i) E| / (f_r cos(theta_i) E).
 
-What is asserted, per render, with the band of sun-camera angle the scene falls in
-(fit.h kSunAngleBands: 0-30, 30-60, 60-90, 90-120, 120-140 deg) and the error the description states
-for that band (fit.error.by_sun_angle; EEVEE: fit.eevee.error.by_sun_angle):
-  - below TARGET_BELOW_DEG, the issue's targets (median <= 5%, p95 <= 20%) whatever the fit states;
-  - above it, the targets where the stated band meets them, and elsewhere that the render shows the
-    error stated: rendered median <= 1.5 x stated median + 2% (the stated error is what the add-on's
-    panel shows, so it must not flatter the fit).
+What is asserted, per render (tests/fit_bands.py), with the band of sun-camera angle the scene falls
+in (exporters/fit.h kSunAngleBands: 0-30, 30-60, 60-90, 90-120, 120-140 deg) and the error the
+description states for that band (fit.error.by_sun_angle; EEVEE: fit.eevee.error.by_sun_angle):
+below ASSERTED_BELOW_DEG the issue's targets (median <= 5%, p95 <= 20%) whatever the fit states;
+above it the targets where the stated band meets them, elsewhere rendered median <= 1.5 x stated
+median + 2% (the error the add-on's panel shows must be the one rendered).
 Measured (docs/fit.md): Cycles, 8 scenes of the default seed, medians 0.2-3.5% below 110 deg;
 scenes at ~128 deg 15% and 23% (stated for 120-140 deg: 14% and 12-21%).
 
@@ -34,24 +33,17 @@ import numpy as np
 import blender_test_env  # noqa: F401  (sys.path)
 from blender_test_env import BRDF, ROOT
 import checks  # noqa: E402
+import fit_bands  # noqa: E402
 import render_check  # noqa: E402
 from checks import check  # noqa: E402
 from package import addon_zip  # noqa: E402
 from test_blender_random import MAX_ANGLE_DEG, random_scene  # noqa: E402
 
-MEDIAN_TARGET, P95_TARGET = 0.05, 0.20
-# Below this sun-camera angle the targets hold for every surface (docs/fit.md: Cycles' stated p95
-# per band <= 12% there on the surveyed surfaces); above it the stated band decides.
-TARGET_BELOW_DEG = {"CYCLES": 90.0, "BLENDER_EEVEE": 0.0}  # EEVEE: its own stated error decides
+# Below this sun-camera angle the targets are asserted for every surface (docs/fit.md: Cycles'
+# stated p95 per band <= 13% there on the surveyed surfaces); above it the stated band decides.
+# EEVEE: its own stated error decides everywhere (its GGX is not GGX at roughness 0.375-0.875).
+ASSERTED_BELOW_DEG = {"CYCLES": 90.0, "BLENDER_EEVEE": 0.0}
 BLENDER = os.environ.get("BLENDER", "blender")
-
-
-def band_of(bands, angle_deg):
-    """The by_sun_angle entry whose [from_deg, to_deg) holds angle_deg (the last one is closed)."""
-    for band in bands:
-        if band["from_deg"] <= angle_deg < band["to_deg"] or (band is bands[-1] and angle_deg <= band["to_deg"]):
-            return band
-    return None
 
 
 def main():
@@ -104,7 +96,9 @@ def run(args, tmp):
         predicted, (ti, ts, _) = render_check.predicted_radiance(BRDF, model, channels, normals[mask], light, view,
                                                                  1.0, [1.0, 1.0, 1.0])
         rendered = passes["Combined"][:, :, :3][mask]
-        selected = (ti <= MAX_ANGLE_DEG) & (ts <= MAX_ANGLE_DEG) & (predicted.min(axis=1) > 0.01 * predicted.max())
+        # The floor: 1% of the maximum over theta_i, theta_s <= 80 deg, as the fit's stated measure takes it.
+        peak = predicted[(ti <= fit_bands.PEAK_ANGLE_DEG) & (ts <= fit_bands.PEAK_ANGLE_DEG)].max()
+        selected = (ti <= MAX_ANGLE_DEG) & (ts <= MAX_ANGLE_DEG) & (predicted.min(axis=1) > 0.01 * peak)
         surface = material["material"] or f"n {material['n']:g} + {material['k']:g}i"
         what = (f"{render['name']} (FIT, {engine}, Blender {result['blender']}): {model} {surface} sigma_s "
                 f"{material['sigma_s']:g} l_c {material['lc']:g}, sun-camera {angle:.1f} deg")
@@ -113,21 +107,11 @@ def run(args, tmp):
         rel = (np.abs(rendered - predicted)[selected] / predicted[selected]).ravel()
         median, p95 = float(np.median(rel)), float(np.percentile(rel, 95))
         fit = description["fit"] if engine == "CYCLES" else description["fit"]["eevee"]
-        stated = band_of(fit["error"]["by_sun_angle"], angle)
-        if not check(stated is not None, f"{what}: the description states the error of its band"):
-            continue
-        band = f"{stated['from_deg']:g}-{stated['to_deg']:g} deg"
-        table.append((render["name"], engine, angle, int(selected.sum()), median, p95, band, stated["median"], stated["p95"]))
-        stated_meets = stated["median"] <= MEDIAN_TARGET and stated["p95"] <= P95_TARGET
-        if angle < TARGET_BELOW_DEG[engine] or stated_meets:
-            why = "below the asserted angle" if angle < TARGET_BELOW_DEG[engine] else f"stated for {band}: meets them"
-            check(median <= MEDIAN_TARGET and p95 <= P95_TARGET,
-                  f"{what}: {selected.sum()} pixels, median {median:.2%} <= {MEDIAN_TARGET:.0%}, p95 {p95:.2%} <= "
-                  f"{P95_TARGET:.0%} ({why}; stated median {stated['median']:.2%}, p95 {stated['p95']:.2%})")
-        else:
-            check(median <= 1.5 * stated["median"] + 0.02,
-                  f"{what}: renders the error stated for {band}: median {median:.2%} <= 1.5 x {stated['median']:.2%} "
-                  f"+ 2% (p95 {p95:.2%}, stated {stated['p95']:.2%}; targets not met there, stated in the panel)")
+        stated = fit_bands.check_render(what + f", {selected.sum()} pixels", median, p95, angle,
+                                        fit["error"]["by_sun_angle"], ASSERTED_BELOW_DEG[engine])
+        if stated is not None:
+            table.append((render["name"], engine, angle, int(selected.sum()), median, p95,
+                          f"{stated['from_deg']:g}-{stated['to_deg']:g} deg", stated["median"], stated["p95"]))
     print("     render | engine | sun-camera deg | pixels | median | p95 | band | stated median | stated p95")
     for row in table:
         print(f"     {row[0]} | {row[1]} | {row[2]:.1f} | {row[3]} | {row[4]:.2%} | {row[5]:.2%} | {row[6]} | "

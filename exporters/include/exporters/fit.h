@@ -23,11 +23,17 @@
 // The measure fitted and reported is the one of the one-sun check: pixels of an
 // orthographic sphere lit by one sun, per channel, relative error |fit - exact| / exact over the
 // pixels whose exact radiance (every channel) exceeds 1% of the scene's maximum and whose
-// theta_i, theta_s <= 70 deg. Fitting scenes put the sun at 5..110 deg from the camera; the
-// reported quality is measured on other scenes (sun at 10, 40, 70, 100 deg, another pixel grid).
-// Beyond ~100 deg (theta_d > 50 deg) no lobe over the half vector can follow MBK: its radiance goes
-// with cos(theta_i) across the lobe where a microfacet lobe's goes with 1/cos(theta_s), and the
-// renderer's colour may depend on N.V only (FIT works with any lights, so L is unknown).
+// theta_i, theta_s <= 70 deg. Fitting scenes put the sun at 5..138 deg from the camera (a random
+// sun and camera leave pixels with theta_i, theta_s <= 70 deg below 140 deg); the reported quality
+// is measured on other scenes (two suns inside each band of kSunAngleBands, another pixel grid),
+// pooled and band by band (NativeFit::by_sun_angle), since the error grows with the angle.
+// Cycles' lobes (FitRequest::view_dependent_roughness) take alpha(N.V) (lobe_alpha): a polished MBK
+// lobe is exp(-c_scale 4 cos^2(theta_d) sin^2(theta_h)), its width in theta_h ~ 1/cos(theta_d), and
+// N.V = cos(theta_d) at its peak (docs/fit.md: Cycles at random suns, medians 8.0% -> 1.9%, 12.5% ->
+// 1.6% at 64 and 86 deg). Beyond ~90 deg (theta_d > 45 deg) no lobe over the half vector follows
+// MBK well: across the lobe its radiance goes with cos(theta_i) where a microfacet lobe's goes with
+// 1/cos(theta_s), and the renderer's colour and roughness may depend on N.V only (FIT works with
+// any lights, so L is unknown): the stated error per band says how far.
 // The lobe count is the smallest (1..max_lobes) whose measured p95 meets target_error.
 // The specular spike (the m = 0 delta, R_spec) is not part of this fit: exporters add it as a
 // mirror lobe weighted by R_spec.
