@@ -29,14 +29,16 @@ def band_of(bands, angle_deg):
     return None
 
 
-def check_render(what, median, p95, angle_deg, bands, asserted_below_deg):
+def check_render(what, median, p95, angle_deg, bands, asserted_below_deg, targets_where_stated=True):
     """Records the check for one render (rendered median and p95 of the per-pixel relative error);
-    returns the band used (None: no band states this angle, a failed check)."""
+    returns the band used (None: no band states this angle, a failed check). targets_where_stated
+    False: only the stated median is checked above asserted_below_deg (EEVEE: its stated p95 is the
+    exact GGX's, which EEVEE's LTC lighting does not render; docs/fit.md)."""
     stated = band_of(bands, angle_deg)
     if not check(stated is not None, f"{what}: the export states the error of its band of sun-camera angle"):
         return None
     band = f"{stated['from_deg']:g}-{stated['to_deg']:g} deg"
-    stated_meets = stated["median"] <= MEDIAN_TARGET and stated["p95"] <= P95_TARGET
+    stated_meets = targets_where_stated and stated["median"] <= MEDIAN_TARGET and stated["p95"] <= P95_TARGET
     if angle_deg < asserted_below_deg or stated_meets:
         why = f"below {asserted_below_deg:g} deg" if angle_deg < asserted_below_deg else f"stated for {band}: meets them"
         check(median <= MEDIAN_TARGET and p95 <= P95_TARGET,
@@ -45,5 +47,5 @@ def check_render(what, median, p95, angle_deg, bands, asserted_below_deg):
     else:
         check(median <= 1.5 * stated["median"] + 0.02,
               f"{what}: renders the error stated for {band}: median {median:.2%} <= 1.5 x {stated['median']:.2%} + 2% "
-              f"(p95 {p95:.2%}, stated {stated['p95']:.2%}; the targets are not met there, as stated)")
+              f"(p95 {p95:.2%}, stated {stated['p95']:.2%})")
     return stated

@@ -148,12 +148,24 @@ double beckmann_value(double alpha, double nl, double nv, double nh) {
 
 // POV-Ray's highlight of a blinn-shape lobe: Blinn (N.H)^n or Phong (R.L)^n, R = 2 (N.V) N - V, so
 // R.L = 2 N.V N.L - V.L with V.L = (N.L + N.V)^2 / (2 (N.H)^2) - 1 (from H = (L + V) / |L + V|).
-double highlight_value(const Lobe& lobe, double nl, double nv, double nh) {
-  if (!(nl > 0.0) || !(nh > 0.0)) return 0.0;
-  if (!lobe.phong) return std::pow(nh, lobe.roughness);
+double highlight_at(const Lobe& lobe, double exponent, double nl, double nv, double nh) {
+  if (!lobe.phong) return std::pow(nh, exponent);
   const double vl = (nl + nv) * (nl + nv) / (2.0 * nh * nh) - 1.0;
   const double rl = 2.0 * nv * nl - vl;
-  return rl > 0.0 ? std::pow(std::min(rl, 1.0), lobe.roughness) : 0.0;
+  return rl > 0.0 ? std::pow(std::min(rl, 1.0), exponent) : 0.0;
+}
+
+double highlight_value(const Lobe& lobe, double nl, double nv, double nh) {
+  if (!(nl > 0.0) || !(nh > 0.0)) return 0.0;
+  if (lobe.roughness_slope == 0.0) return highlight_at(lobe, lobe.roughness, nl, nv, nh);
+  // An exponent following N.V: POV-Ray blends the lobe's textures at the view nodes linearly in
+  // the slope value (blinn_exponent_at_node), as the include's texture_map does.
+  const double s = 0.5 + std::asin(std::clamp(nv, 0.0, 1.0)) / kPiD;
+  const double position = std::clamp((s - 0.5) * 2.0 * (kViewNodes - 1), 0.0, static_cast<double>(kViewNodes - 1));
+  const int k = std::min(static_cast<int>(position), kViewNodes - 2);
+  const double w = position - k;
+  return (1.0 - w) * highlight_at(lobe, blinn_exponent_at_node(lobe, k), nl, nv, nh) +
+         w * highlight_at(lobe, blinn_exponent_at_node(lobe, k + 1), nl, nv, nh);
 }
 
 // Non-negative least squares on normal equations (Lawson & Hanson's active-set method):
@@ -438,7 +450,7 @@ std::vector<Lobe> refine(const FitRequest& request, std::vector<Lobe> lobes, con
   const LobeShape shape = request.shape;
   const bool signed_colours = request.signed_colours;
   const int J = static_cast<int>(lobes.size());
-  const bool slopes = request.view_dependent_roughness && shape != LobeShape::blinn;
+  const bool slopes = request.view_dependent_roughness;
   const int dimensions = slopes ? 2 * J : J;
   auto at = [&](const std::vector<double>& logs, std::vector<Lobe>& out) {
     out = lobes;
@@ -570,6 +582,14 @@ double lobe_alpha(const Lobe& lobe, double mu_v) {
   return std::min(lobe.roughness * std::pow(std::max(mu_v, kMinViewCosine), -lobe.roughness_slope), kMaxAlpha);
 }
 
+double view_node_cosine(int k) { return std::sin(0.5 * kPiD * k / (kViewNodes - 1)); }
+
+double blinn_exponent_at_node(const Lobe& lobe, int k) {
+  if (lobe.roughness_slope == 0.0) return lobe.roughness;
+  const double mu = std::max(view_node_cosine(k), kMinViewCosine);
+  return std::clamp(lobe.roughness * std::pow(mu, 2.0 * lobe.roughness_slope), kMinExponent, kMaxExponent);
+}
+
 double povray_metallic_weight(double n_dot_l) {
   const double x = std::acos(std::clamp(n_dot_l, -1.0, 1.0)) / (0.5 * kPiD);
   return std::clamp(0.014567225 / ((x - 1.12) * (x - 1.12)) - 0.011612903, 0.0, 1.0);
@@ -647,10 +667,12 @@ NativeFit fit_native_lobes(const std::vector<Model>& models, const FitRequest& r
     for (int j = 0; j < J; ++j) lobes[static_cast<std::size_t>(j)].roughness =
           clamp_roughness(request, roughness_from_width(request.shape, widths[static_cast<std::size_t>(j)]));
     std::vector<std::vector<Lobe>> candidates{lobes};
-    if (request.view_dependent_roughness && request.shape != LobeShape::blinn) {
-      // The same widths (set at theta_i = theta_s = 30 deg, mu_v = cos 30) following 1/N.V.
+    if (request.view_dependent_roughness) {
+      // The same widths (set at theta_i = theta_s = 30 deg, mu_v = cos 30) following 1/N.V
+      // (blinn: exponent ~ 1/width^2 ~ N.V^2).
+      const double cos30 = std::cos(30.0 * kPiD / 180.0);
       for (Lobe& l : lobes) {
-        l.roughness = clamp_roughness(request, l.roughness * std::cos(30.0 * kPiD / 180.0));
+        l.roughness = clamp_roughness(request, request.shape == LobeShape::blinn ? l.roughness / (cos30 * cos30) : l.roughness * cos30);
         l.roughness_slope = 1.0;
       }
       candidates.push_back(lobes);

@@ -51,7 +51,7 @@ std::string describe_channel(const ModelParameters& p) {
 // NAME_Fit_Lobe_j textures and NAME_Fit (povray.h, FinishFit). Pigments: the lobe colour at
 // kColourNodes slope values over N.V in [0, 1] (s = 1/2 + asin(N.V)/pi), linear in between.
 std::string fit_textures(const std::string& N, const FinishFit& fit) {
-  constexpr int kColourNodes = 24;
+  constexpr int kColourNodes = fit::kViewNodes;
   const std::vector<fit::Lobe>& lobes = fit.lobes.lobes;
   const double count = static_cast<double>(std::max<std::size_t>(lobes.size(), 1));
   std::ostringstream out;
@@ -59,24 +59,38 @@ std::string fit_textures(const std::string& N, const FinishFit& fit) {
                                  " falloff " + number(fit.reflection_falloff) + " }";
   for (std::size_t j = 0; j < lobes.size(); ++j) {
     const fit::Lobe& l = lobes[j];
-    out << "#declare " << N << "_Fit_Lobe_" << j + 1 << " = texture {\n"
-        << "  pigment { slope { " << N << "_View_Direction } color_map {";
+    const std::string lobe = N + "_Fit_Lobe_" + std::to_string(j + 1);
+    out << "#declare " << lobe << "_Pigment = pigment { slope { " << N << "_View_Direction } color_map {";
     for (int i = 0; i < kColourNodes; ++i) {
       const double slope = 0.5 + 0.5 * i / (kColourNodes - 1);
-      const double mu = std::sin(kPi * (slope - 0.5));
+      const double mu = fit::view_node_cosine(i);
       std::array<double, 3> rgb{};
       for (int c = 0; c < 3; ++c) rgb[static_cast<std::size_t>(c)] = fit::lobe_colour(l, c, mu);
       if (i == 0) out << " [0 rgb " << vector3(rgb, 7) << "]";
       out << " [" << number(slope, 9) << " rgb " << vector3(rgb, 7) << "]";
     }
+    out << " } }\n";
     // The average divides by the lobe count: each lobe's S is multiplied by it.
-    out << " } }\n"
-        << "  finish { ambient 0 emission 0 diffuse 0 "
-        << (l.phong ? "phong " + number(count * l.specular) + " phong_size " + number(l.roughness)
-                    : "specular " + number(count * l.specular) + " roughness " + number(1.0 / l.roughness))
-        << " metallic 1\n"
-        << "           " << reflection << " }\n"
-        << "}\n";
+    auto finish = [&](double exponent) {
+      return "finish { ambient 0 emission 0 diffuse 0 " +
+             (l.phong ? "phong " + number(count * l.specular) + " phong_size " + number(exponent)
+                      : "specular " + number(count * l.specular) + " roughness " + number(1.0 / exponent)) +
+             " metallic 1 " + reflection + " }";
+    };
+    if (l.roughness_slope == 0.0) {
+      out << "#declare " << lobe << " = texture { pigment { " << lobe << "_Pigment } " << finish(l.roughness) << " }\n";
+      continue;
+    }
+    // The exponent follows N.V (fit.h, blinn_exponent_at_node): one texture per view node, blended
+    // linearly in the slope value.
+    out << "#declare " << lobe << " = texture { slope { " << N << "_View_Direction } texture_map {\n";
+    for (int i = 0; i < kColourNodes; ++i) {
+      const double slope = 0.5 + 0.5 * i / (kColourNodes - 1);
+      const std::string entry = "pigment { " + lobe + "_Pigment } " + finish(fit::blinn_exponent_at_node(l, i));
+      if (i == 0) out << "  [0 " << entry << "]\n";
+      out << "  [" << number(slope, 9) << " " << entry << "]\n";
+    }
+    out << "} }\n";
   }
   if (lobes.empty()) {
     out << "#declare " << N << "_Fit = texture { pigment { rgb 0 } finish { ambient 0 emission 0 diffuse 0 " << reflection
@@ -194,7 +208,8 @@ std::string include_text(const std::string& name, ModelKind model, const std::ve
               : std::string("n/a (no such normal is lit and seen)"))
       << "; up to the horizon (silhouettes) max " << percent(slice.error.max_relative_all) << ".\n"
       << "// " << N << "_Fit: " << fit.lobes.lobes.size() << " Blinn or Phong lobe(s) (specular or phong, metallic 1, pigment following N.V through\n"
-      << "//   slope { " << N << "_View_Direction }) averaged by a texture_map, + reflection fitted to R_spec = F exp(-g).\n"
+      << "//   slope { " << N << "_View_Direction }) averaged by a texture_map, + reflection fitted to R_spec = F exp(-g); a lobe's\n"
+      << "//   exponent follows N.V too (a texture_map over the same slope: a polished lobe narrows as 1/cos(theta_d)).\n"
       << "//   Measured per pixel and channel against the exact radiance f_r cos(theta_i) on orthographic spheres lit\n"
       << "//   by one sun at two angles from the camera in each band below (theta_i, theta_s <= 70 deg, values above 1%\n"
       << "//   of the maximum), all bands: median " << percent(fit.lobes.quality.median) << ", p95 "

@@ -43,7 +43,7 @@ WAVELENGTHS = [0.65, 0.55, 0.45]
 SIZE = 160
 # Below this sun-camera angle the targets are asserted for every surface (docs/fit.md); above it
 # the include's stated band decides.
-ASSERTED_BELOW_DEG = 60.0
+ASSERTED_BELOW_DEG = 90.0
 
 
 def stated_bands(header, name="Material"):

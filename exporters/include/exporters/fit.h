@@ -69,7 +69,8 @@ inline constexpr int kColourTerms = kColourDegree + 1;
 
 struct Lobe {
   double roughness = 0.1;  // ggx/beckmann: alpha at mu_v = 1 (lobe_alpha); blinn: exponent n
-  // ggx/beckmann: alpha(mu_v) = roughness mu_v^-roughness_slope (lobe_alpha; 0: a fixed alpha).
+  // ggx/beckmann: alpha(mu_v) = roughness mu_v^-roughness_slope (lobe_alpha; 0: a fixed alpha);
+  // blinn: exponent roughness mu_v^(2 roughness_slope) at the view nodes (blinn_exponent_at_node).
   double roughness_slope = 0.0;
   double specular = 1.0;   // blinn: S (shared by the channels); ggx: 1
   bool phong = false;      // blinn shape only: the Phong highlight (R.L)^n instead of (N.H)^n
@@ -87,6 +88,15 @@ double lobe_colour(const Lobe& lobe, int channel, double mu_v);
 // and near the lobe's peak N = H, N.V = cos(theta_d); the renderer knows N.V for any light.
 inline constexpr double kMinViewCosine = 0.05;
 double lobe_alpha(const Lobe& lobe, double mu_v);
+// blinn: POV-Ray cannot vary a finish's exponent continuously; a lobe with roughness_slope != 0 is a
+// texture_map over slope { view } of kViewNodes textures (the include), node k at
+// mu_v = view_node_cosine(k) = sin(pi/2 k/(kViewNodes - 1)) with exponent
+// blinn_exponent_at_node(lobe, k) = roughness max(mu_k, kMinViewCosine)^(2 roughness_slope) (the width
+// ~ 1/exponent^(1/2) following 1/N.V), blended linearly in the slope value 1/2 + asin(N.V)/pi as
+// POV-Ray blends the entries (lobe_radiance does the same).
+inline constexpr int kViewNodes = 24;
+double view_node_cosine(int k);
+double blinn_exponent_at_node(const Lobe& lobe, int k);
 // POV-Ray 3.7's metallic weight F_m at N.L (empirical formula of its source).
 double povray_metallic_weight(double n_dot_l);
 // One lobe's radiance per unit irradiance (both cosines > 0; else 0).
@@ -134,8 +144,9 @@ struct FitRequest {
   // not render as GGX (EEVEE 3.4's LTC: Blender roughness 0.375-0.875, README); every lobe stays out
   // of it. Default: none.
   double excluded_alpha_low = 0.0, excluded_alpha_high = 0.0;
-  // ggx/beckmann: fit each lobe's roughness_slope too (alpha following N.V, lobe_alpha). Default:
-  // fixed alphas (EEVEE: a varying alpha would cross the excluded band).
+  // Fit each lobe's roughness_slope too (ggx/beckmann: alpha following N.V, lobe_alpha; blinn: the
+  // exponent at the view nodes, blinn_exponent_at_node). Default: fixed roughnesses (EEVEE: a
+  // varying alpha would cross the excluded band).
   bool view_dependent_roughness = false;
 };
 
