@@ -25,9 +25,7 @@ Usage: test_blender_fit_random.py [--engines CYCLES[,BLENDER_EEVEE]] [--scenes N
 import argparse
 import math
 import os
-import shutil
 import sys
-import tempfile
 
 import numpy as np
 
@@ -56,13 +54,7 @@ def main():
     parser.add_argument("--resolution", type=int, default=128)
     parser.add_argument("--keep")
     args = parser.parse_args()
-    tmp = args.keep or tempfile.mkdtemp(prefix="libbrdf_fit_random_")
-    os.makedirs(tmp, exist_ok=True)
-    try:
-        return run(args, tmp)
-    finally:
-        if not args.keep:
-            shutil.rmtree(tmp, ignore_errors=True)
+    return render_check.in_folder(args.keep, "libbrdf_fit_random_", lambda tmp: run(args, tmp))
 
 
 def run(args, tmp):
