@@ -454,7 +454,8 @@ def fit_graph(description):
             b.connect(eevee_mirror, "Roughness", EEVEE_MIRROR_ROUGHNESS)
             eevee_shared.append(Out(eevee_mirror.id, 0))
     basis_cache = {}
-    cycles = _lobe_shaders(b, fit.get("lobes", []), fit.get("distribution", "beckmann"), cos_v, basis_cache, "")
+    cycles = _lobe_shaders(b, fit.get("lobes", []), fit.get("distribution", "beckmann"), cos_v, basis_cache, "",
+                           float(fit.get("min_view_cosine", 0.05)))
     g.links.append((_sum_shaders(b, g, cycles + shared), GROUP_OUTPUT, "Shader"))
     if eevee:
         if eevee.get("signed", False):
@@ -514,8 +515,11 @@ def _signed_lobes_emission(b, lobes, cos_v, basis_cache):
     return [Out(emission.id, 0)]
 
 
-def _lobe_shaders(b, lobes, distribution, cos_v, basis_cache, label):
-    """One Glossy BSDF per fitted lobe (non-negative colours), colour sum_k c_k B_k(N.V)."""
+def _lobe_shaders(b, lobes, distribution, cos_v, basis_cache, label, min_view_cosine=0.05):
+    """One Glossy BSDF per fitted lobe (non-negative colours), colour sum_k c_k B_k(N.V); roughness
+    sqrt(alpha(N.V)), alpha(N.V) = min(alpha max(N.V, min_view_cosine)^-alpha_slope, 1) (fit.h,
+    lobe_alpha: a polished MBK lobe's width in theta_h goes as 1/cos(theta_d), and N.V = cos(theta_d)
+    at its peak), a constant where alpha_slope is 0."""
     shaders = []
     for index, lobe in enumerate(lobes):
         colour = _colour(b, lobe, _basis(b, cos_v, len(lobe["colour"][0]) - 1, basis_cache))
@@ -523,7 +527,14 @@ def _lobe_shaders(b, lobes, distribution, cos_v, basis_cache, label):
             continue
         glossy = b.add("ShaderNodeBsdfGlossy", {"distribution": distribution.upper()}, label=f"{label}lobe {index + 1}")
         b.connect(glossy, "Color", colour)
-        b.connect(glossy, "Roughness", float(lobe["roughness"]))
+        slope = float(lobe.get("alpha_slope", 0.0))
+        roughness = float(lobe["roughness"])
+        if slope != 0.0:
+            # sqrt(alpha mu^-slope) = sqrt(alpha) mu^(-slope/2), at most 1.
+            follow = b.math("POWER", b.math("MAXIMUM", cos_v, min_view_cosine), -0.5 * slope)
+            roughness = b.math("MINIMUM", b.math("MULTIPLY", follow, roughness), 1.0,
+                               label=f"{label}lobe {index + 1} roughness(N.V)")
+        b.connect(glossy, "Roughness", roughness)
         shaders.append(Out(glossy.id, 0))
     return shaders
 

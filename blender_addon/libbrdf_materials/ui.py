@@ -99,6 +99,8 @@ class LIBBRDF_PT_material(bpy.types.Panel):
         material = context.object.active_material
         group = material.node_tree.nodes.get("libbrdf") if material and material.node_tree else None
         if group is not None and group.node_tree is not None and group.node_tree.get("libbrdf_fit_error"):
-            layout.label(text="Fit: " + group.node_tree["libbrdf_fit_error"], icon="INFO")
+            # core.fit_error_text: the overall error, then the error per light-camera angle per engine.
+            for number, line in enumerate(group.node_tree["libbrdf_fit_error"].split("\n")):
+                layout.label(text=("Fit: " if number == 0 else "  ") + line, icon="INFO" if number == 0 else "BLANK1")
         if group is not None and group.node_tree is not None and group.node_tree.get("libbrdf_albedo"):
             layout.label(text="Energy: " + group.node_tree["libbrdf_albedo"], icon="LIGHT_SUN")

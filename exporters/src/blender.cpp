@@ -87,7 +87,8 @@ nlohmann::json lobes_json(const fit::NativeFit& n) {
   for (const fit::Lobe& l : n.lobes) {
     json colour = json::array();
     for (int c = 0; c < 3; ++c) colour.push_back(l.colour[static_cast<std::size_t>(c)]);
-    lobes.push_back({{"alpha", l.roughness}, {"roughness", std::sqrt(l.roughness)}, {"colour", colour}});
+    lobes.push_back({{"alpha", l.roughness}, {"roughness", std::sqrt(l.roughness)}, {"alpha_slope", l.roughness_slope},
+                     {"colour", colour}});
   }
   json tried = json::array();
   for (const fit::FitQuality& q : n.tried) tried.push_back(q.p95);
@@ -99,7 +100,9 @@ nlohmann::json lobes_json(const fit::NativeFit& n) {
   out["colour_basis"] = "per channel sum_k colour[c][k] B_k(N.V), B_k = C(" + std::to_string(fit::kColourDegree) +
                         ", k) mu^k (1 - mu)^(" + std::to_string(fit::kColourDegree) + " - k), mu = N.V";
   out["bsdf"] = std::string("Glossy BSDF (") + (ggx ? "GGX" : "Beckmann") +
-                ") per lobe, roughness = sqrt(alpha), added; radiance / E = C D G1 G1 / (4 N.V)";
+                ") per lobe, roughness = sqrt(alpha(N.V)), added; radiance / E = C D G1 G1 / (4 N.V)";
+  out["alpha_of_view"] = "alpha(N.V) = min(alpha max(N.V, min_view_cosine)^-alpha_slope, 1) (alpha_slope 0: a fixed alpha)";
+  out["min_view_cosine"] = fit::kMinViewCosine;
   out["error"] = {{"median", n.quality.median},
                   {"p95", n.quality.p95},
                   {"max", n.quality.max},
@@ -109,9 +112,16 @@ nlohmann::json lobes_json(const fit::NativeFit& n) {
                   {"target_met", n.target_met},
                   {"p95_by_lobe_count", tried},
                   {"measure", "per pixel and channel |fit - exact| / exact, exact = f_r cos(theta_i), on orthographic "
-                              "spheres lit by one sun at 10, 40, 70, 100 deg from the camera; pixels with theta_i, "
-                              "theta_s <= 70 deg and every channel above 1% of the scene's maximum; the lobes as Cycles "
-                              "evaluates them; lowest = min fit / scene maximum"}};
+                              "spheres lit by one sun at two angles from the camera in each band of by_sun_angle; pixels "
+                              "with theta_i, theta_s <= 70 deg and every channel above 1% of the scene's maximum; the lobes "
+                              "as the renderer evaluates them; lowest = min fit / scene maximum"}};
+  // The error per band of the sun-camera angle (fit.h): what a render under one sun at that angle
+  // shows, where the pooled numbers above would hide a band that misses the target.
+  json bands = json::array();
+  for (const fit::SunAngleQuality& b : n.by_sun_angle)
+    bands.push_back({{"from_deg", b.from_deg}, {"to_deg", b.to_deg}, {"median", b.quality.median}, {"p95", b.quality.p95},
+                     {"values", b.quality.values}});
+  out["error"]["by_sun_angle"] = bands;
   return out;
 }
 

@@ -56,7 +56,9 @@ void fit_lobes(const MaterialExportRequest& r, const std::vector<Model>& models,
   fit::FitRequest fit_request;
   fit_request.target_error = r.target_error.value_or(fit::kDefaultTargetError);
   fit_request.shape = fit::LobeShape::beckmann;
+  fit_request.view_dependent_roughness = true;  // Cycles: alpha(N.V) per lobe (fit.h, lobe_alpha)
   cycles = fit::fit_native_lobes(models, fit_request);
+  fit_request.view_dependent_roughness = false;
   fit_request.shape = fit::LobeShape::ggx;
   fit_request.signed_colours = true;
   fit_request.excluded_alpha_low = kEeveeGgxBandLow * kEeveeGgxBandLow;
@@ -67,6 +69,12 @@ void fit_lobes(const MaterialExportRequest& r, const std::vector<Model>& models,
     out << "fit (" << (f == &cycles ? "Cycles, Beckmann" : "EEVEE, GGX") << "): " << f->lobes.size()
         << " lobes, per-pixel error median " << 100.0 * f->quality.median << "%, p95 " << 100.0 * f->quality.p95
         << "% (target " << 100.0 * fit_request.target_error << "%" << (f->target_met ? "" : ", not met") << ")\n";
+  for (const auto* f : {&cycles, &eevee}) {
+    out << "  by sun-camera angle (" << (f == &cycles ? "Cycles" : "EEVEE") << "), median / p95:";
+    for (const fit::SunAngleQuality& b : f->by_sun_angle)
+      out << " " << b.from_deg << "-" << b.to_deg << " deg " << 100.0 * b.quality.median << "% / " << 100.0 * b.quality.p95 << "%;";
+    out << "\n";
+  }
   log += out.str();
 }
 

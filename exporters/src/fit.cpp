@@ -33,6 +33,8 @@ constexpr double kWhiteFraction = 1e-3;
 // Roughness bounds: Blender clamps its roughness to [0, 1] (alpha = roughness^2 <= 1); below
 // alpha ~ 1e-3 a lobe is a mirror. POV-Ray: exponent n = 1/roughness.
 constexpr double kMinAlpha = 2e-3, kMaxAlpha = 1.0, kMinExponent = 1.0, kMaxExponent = 1e6;
+// alpha(mu_v) = roughness mu_v^-slope (lobe_alpha): slope 1 follows the polished lobe's 1/cos(theta_d).
+constexpr double kMaxRoughnessSlope = 2.0;
 
 // One pixel of an orthographic sphere: the cosines the lobes need and the exact radiance per unit
 // irradiance f_r cos(theta_i) per channel.
@@ -146,12 +148,24 @@ double beckmann_value(double alpha, double nl, double nv, double nh) {
 
 // POV-Ray's highlight of a blinn-shape lobe: Blinn (N.H)^n or Phong (R.L)^n, R = 2 (N.V) N - V, so
 // R.L = 2 N.V N.L - V.L with V.L = (N.L + N.V)^2 / (2 (N.H)^2) - 1 (from H = (L + V) / |L + V|).
-double highlight_value(const Lobe& lobe, double nl, double nv, double nh) {
-  if (!(nl > 0.0) || !(nh > 0.0)) return 0.0;
-  if (!lobe.phong) return std::pow(nh, lobe.roughness);
+double highlight_at(const Lobe& lobe, double exponent, double nl, double nv, double nh) {
+  if (!lobe.phong) return std::pow(nh, exponent);
   const double vl = (nl + nv) * (nl + nv) / (2.0 * nh * nh) - 1.0;
   const double rl = 2.0 * nv * nl - vl;
-  return rl > 0.0 ? std::pow(std::min(rl, 1.0), lobe.roughness) : 0.0;
+  return rl > 0.0 ? std::pow(std::min(rl, 1.0), exponent) : 0.0;
+}
+
+double highlight_value(const Lobe& lobe, double nl, double nv, double nh) {
+  if (!(nl > 0.0) || !(nh > 0.0)) return 0.0;
+  if (lobe.roughness_slope == 0.0) return highlight_at(lobe, lobe.roughness, nl, nv, nh);
+  // An exponent following N.V: POV-Ray blends the lobe's textures at the view nodes linearly in
+  // the slope value (blinn_exponent_at_node), as the include's texture_map does.
+  const double s = 0.5 + std::asin(std::clamp(nv, 0.0, 1.0)) / kPiD;
+  const double position = std::clamp((s - 0.5) * 2.0 * (kViewNodes - 1), 0.0, static_cast<double>(kViewNodes - 1));
+  const int k = std::min(static_cast<int>(position), kViewNodes - 2);
+  const double w = position - k;
+  return (1.0 - w) * highlight_at(lobe, blinn_exponent_at_node(lobe, k), nl, nv, nh) +
+         w * highlight_at(lobe, blinn_exponent_at_node(lobe, k + 1), nl, nv, nh);
 }
 
 // Non-negative least squares on normal equations (Lawson & Hanson's active-set method):
@@ -290,7 +304,7 @@ double solve_colours(LobeShape shape, bool signed_colours, std::vector<Lobe>& lo
         value[static_cast<std::size_t>(j)] = highlight_value(lobes[static_cast<std::size_t>(j)], p.nl, p.nv, p.nh);
     } else {
       for (int j = 0; j < J; ++j) {
-        const double r = lobes[static_cast<std::size_t>(j)].roughness;
+        const double r = lobe_alpha(lobes[static_cast<std::size_t>(j)], p.nv);
         value[static_cast<std::size_t>(j)] =
             shape == LobeShape::ggx ? ggx_value(r, p.nl, p.nv, p.nh) : beckmann_value(r, p.nl, p.nv, p.nh);
       }
@@ -430,14 +444,21 @@ double clamp_roughness(const FitRequest& request, double r) {
   return r;
 }
 
-// Nelder-Mead on log roughness (J dimensions); the colours are solved exactly at every trial.
+// Nelder-Mead on log roughness (J dimensions), and on each lobe's roughness_slope when the request
+// asks for alphas following N.V (J more); the colours are solved exactly at every trial.
 std::vector<Lobe> refine(const FitRequest& request, std::vector<Lobe> lobes, const std::vector<Pixel>& pixels, int evaluations) {
   const LobeShape shape = request.shape;
   const bool signed_colours = request.signed_colours;
   const int J = static_cast<int>(lobes.size());
+  const bool slopes = request.view_dependent_roughness;
+  const int dimensions = slopes ? 2 * J : J;
   auto at = [&](const std::vector<double>& logs, std::vector<Lobe>& out) {
     out = lobes;
-    for (int j = 0; j < J; ++j) out[static_cast<std::size_t>(j)].roughness = clamp_roughness(request, std::exp(logs[static_cast<std::size_t>(j)]));
+    for (int j = 0; j < J; ++j) {
+      Lobe& l = out[static_cast<std::size_t>(j)];
+      l.roughness = clamp_roughness(request, std::exp(logs[static_cast<std::size_t>(j)]));
+      if (slopes) l.roughness_slope = std::clamp(logs[static_cast<std::size_t>(J + j)], 0.0, kMaxRoughnessSlope);
+    }
     return solve_colours(shape, signed_colours, out, pixels);
   };
   std::vector<std::vector<double>> simplex;
@@ -445,10 +466,12 @@ std::vector<Lobe> refine(const FitRequest& request, std::vector<Lobe> lobes, con
   std::vector<Lobe> scratch;
   std::vector<double> start;
   for (const Lobe& l : lobes) start.push_back(std::log(l.roughness));
+  if (slopes)
+    for (const Lobe& l : lobes) start.push_back(l.roughness_slope);
   simplex.push_back(start);
-  for (int j = 0; j < J; ++j) {
+  for (int j = 0; j < dimensions; ++j) {
     std::vector<double> v = start;
-    v[static_cast<std::size_t>(j)] += 0.4;  // 1.5x in roughness
+    v[static_cast<std::size_t>(j)] += j < J ? 0.4 : (v[static_cast<std::size_t>(j)] > 0.5 ? -0.4 : 0.4);  // 1.5x in roughness; slope +-0.4
     simplex.push_back(v);
   }
   for (const auto& v : simplex) values.push_back(at(v, scratch));
@@ -459,13 +482,13 @@ std::vector<Lobe> refine(const FitRequest& request, std::vector<Lobe> lobes, con
     std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return values[a] < values[b]; });
     const std::size_t best = order.front(), worst = order.back(), second = order[order.size() - 2];
     if (values[worst] - values[best] <= 1e-7 * std::max(values[best], 1e-300)) break;
-    std::vector<double> centroid(static_cast<std::size_t>(J), 0.0);
+    std::vector<double> centroid(static_cast<std::size_t>(dimensions), 0.0);
     for (std::size_t i : order)
       if (i != worst)
-        for (int j = 0; j < J; ++j) centroid[static_cast<std::size_t>(j)] += simplex[i][static_cast<std::size_t>(j)] / J;
+        for (int j = 0; j < dimensions; ++j) centroid[static_cast<std::size_t>(j)] += simplex[i][static_cast<std::size_t>(j)] / dimensions;
     auto along = [&](double t) {
-      std::vector<double> v(static_cast<std::size_t>(J));
-      for (int j = 0; j < J; ++j) {
+      std::vector<double> v(static_cast<std::size_t>(dimensions));
+      for (int j = 0; j < dimensions; ++j) {
         const auto u = static_cast<std::size_t>(j);
         v[u] = centroid[u] + t * (simplex[worst][u] - centroid[u]);
       }
@@ -491,7 +514,7 @@ std::vector<Lobe> refine(const FitRequest& request, std::vector<Lobe> lobes, con
       } else {
         for (std::size_t i = 0; i < simplex.size(); ++i) {
           if (i == best) continue;
-          for (int j = 0; j < J; ++j) {
+          for (int j = 0; j < dimensions; ++j) {
             const auto u = static_cast<std::size_t>(j);
             simplex[i][u] = simplex[best][u] + 0.5 * (simplex[i][u] - simplex[best][u]);
           }
@@ -554,6 +577,19 @@ double lobe_colour(const Lobe& lobe, int channel, double mu_v) {
   return c;
 }
 
+double lobe_alpha(const Lobe& lobe, double mu_v) {
+  if (lobe.roughness_slope == 0.0) return lobe.roughness;
+  return std::min(lobe.roughness * std::pow(std::max(mu_v, kMinViewCosine), -lobe.roughness_slope), kMaxAlpha);
+}
+
+double view_node_cosine(int k) { return std::sin(0.5 * kPiD * k / (kViewNodes - 1)); }
+
+double blinn_exponent_at_node(const Lobe& lobe, int k) {
+  if (lobe.roughness_slope == 0.0) return lobe.roughness;
+  const double mu = std::max(view_node_cosine(k), kMinViewCosine);
+  return std::clamp(lobe.roughness * std::pow(mu, 2.0 * lobe.roughness_slope), kMinExponent, kMaxExponent);
+}
+
 double povray_metallic_weight(double n_dot_l) {
   const double x = std::acos(std::clamp(n_dot_l, -1.0, 1.0)) / (0.5 * kPiD);
   return std::clamp(0.014567225 / ((x - 1.12) * (x - 1.12)) - 0.011612903, 0.0, 1.0);
@@ -562,8 +598,8 @@ double povray_metallic_weight(double n_dot_l) {
 double lobe_radiance(LobeShape shape, const Lobe& lobe, int channel, double n_dot_l, double n_dot_v, double n_dot_h) {
   if (!(n_dot_l > 0.0) || !(n_dot_v > 0.0)) return 0.0;
   const double c = lobe_colour(lobe, channel, n_dot_v);
-  if (shape == LobeShape::ggx) return c * ggx_value(lobe.roughness, n_dot_l, n_dot_v, n_dot_h);
-  if (shape == LobeShape::beckmann) return c * beckmann_value(lobe.roughness, n_dot_l, n_dot_v, n_dot_h);
+  if (shape == LobeShape::ggx) return c * ggx_value(lobe_alpha(lobe, n_dot_v), n_dot_l, n_dot_v, n_dot_h);
+  if (shape == LobeShape::beckmann) return c * beckmann_value(lobe_alpha(lobe, n_dot_v), n_dot_l, n_dot_v, n_dot_h);
   const double fm = povray_metallic_weight(n_dot_l);
   return lobe.specular * highlight_value(lobe, n_dot_l, n_dot_v, n_dot_h) * (fm + (1.0 - fm) * c);
 }
@@ -598,9 +634,17 @@ NativeFit fit_native_lobes(const std::vector<Model>& models, const FitRequest& r
   for (const Model& m : models) narrowest = std::min(narrowest, initial_widths(m, 1).front());
   const double window = std::min(1.0, 2.0 * narrowest);  // eta_r ~ 2 x (projected normal offset)
   const int check_grid = std::clamp(static_cast<int>(std::ceil(24.0 / std::max(window, 1e-3))), 56, 320);
-  const std::vector<Pixel> train = scenes(models, {5, 20, 35, 50, 65, 80, 95, 110}, 32, 0.5, kFitThetaDeg,
+  const std::vector<Pixel> train = scenes(models, {5, 20, 35, 50, 65, 80, 95, 110, 125, 138}, 32, 0.5, kFitThetaDeg,
                                           window < 0.5 ? window : 0.0);
-  const std::vector<Pixel> check = scenes(models, {10, 40, 70, 100}, check_grid, 0.31, kFitThetaDeg);
+  // Validation: two suns inside each band of sun-camera angle (kSunAngleBands), pooled for the
+  // lobe count and measured band by band for the chosen fit.
+  std::vector<std::vector<Pixel>> check_bands;
+  std::vector<Pixel> check;
+  for (std::size_t b = 0; b + 1 < kSunAngleBands.size(); ++b) {
+    const double low = kSunAngleBands[b], high = kSunAngleBands[b + 1];
+    check_bands.push_back(scenes(models, {low + 0.3 * (high - low), low + 0.7 * (high - low)}, check_grid, 0.31, kFitThetaDeg));
+    check.insert(check.end(), check_bands.back().begin(), check_bands.back().end());
+  }
   double peak = 0.0;
   for (const Pixel& p : train) peak = std::max(peak, p.floor);
   if (!(peak > 0.0)) {  // no scattered light at all (e.g. sigma_s = 0: only the spike)
@@ -623,6 +667,16 @@ NativeFit fit_native_lobes(const std::vector<Model>& models, const FitRequest& r
     for (int j = 0; j < J; ++j) lobes[static_cast<std::size_t>(j)].roughness =
           clamp_roughness(request, roughness_from_width(request.shape, widths[static_cast<std::size_t>(j)]));
     std::vector<std::vector<Lobe>> candidates{lobes};
+    if (request.view_dependent_roughness) {
+      // The same widths (set at theta_i = theta_s = 30 deg, mu_v = cos 30) following 1/N.V
+      // (blinn: exponent ~ 1/width^2 ~ N.V^2).
+      const double cos30 = std::cos(30.0 * kPiD / 180.0);
+      for (Lobe& l : lobes) {
+        l.roughness = clamp_roughness(request, request.shape == LobeShape::blinn ? l.roughness / (cos30 * cos30) : l.roughness * cos30);
+        l.roughness_slope = 1.0;
+      }
+      candidates.push_back(lobes);
+    }
     if (!previous.empty()) {
       Lobe extra = J % 2 == 0 ? previous.back() : previous.front();  // sorted sharpest first
       const double factor = request.shape == LobeShape::blinn ? (J % 2 == 0 ? 0.5 : 2.0) : (J % 2 == 0 ? 1.5 : 0.7);
@@ -647,7 +701,7 @@ NativeFit fit_native_lobes(const std::vector<Model>& models, const FitRequest& r
       }
     }
     NativeFit trial = fit;
-    trial.lobes = refine(request, lobes, train, 40 + 25 * J);
+    trial.lobes = refine(request, lobes, train, 40 + (request.view_dependent_roughness ? 50 : 25) * J);
     trial.quality = measure(trial, check);
     previous = trial.lobes;
     fit.tried.push_back(trial.quality);
@@ -658,6 +712,8 @@ NativeFit fit_native_lobes(const std::vector<Model>& models, const FitRequest& r
   }
   best.tried = fit.tried;
   best.target_met = best.quality.p95 <= request.target_error;
+  for (std::size_t b = 0; b < check_bands.size(); ++b)
+    best.by_sun_angle.push_back({kSunAngleBands[b], kSunAngleBands[b + 1], measure(best, check_bands[b])});
   return best;
 }
 

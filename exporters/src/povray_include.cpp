@@ -52,7 +52,7 @@ std::string describe_channel(const ModelParameters& p) {
 // NAME_Fit_Lobe_j textures and NAME_Fit (povray.h, FinishFit). Pigments: the lobe colour at
 // kColourNodes slope values over N.V in [0, 1] (s = 1/2 + asin(N.V)/pi), linear in between.
 std::string fit_textures(const std::string& N, const FinishFit& fit) {
-  constexpr int kColourNodes = 24;
+  constexpr int kColourNodes = fit::kViewNodes;
   const std::vector<fit::Lobe>& lobes = fit.lobes.lobes;
   const double count = static_cast<double>(std::max<std::size_t>(lobes.size(), 1));
   std::ostringstream out;
@@ -60,24 +60,38 @@ std::string fit_textures(const std::string& N, const FinishFit& fit) {
                                  " falloff " + number(fit.reflection_falloff) + " }";
   for (std::size_t j = 0; j < lobes.size(); ++j) {
     const fit::Lobe& l = lobes[j];
-    out << "#declare " << N << "_Fit_Lobe_" << j + 1 << " = texture {\n"
-        << "  pigment { slope { " << N << "_View_Direction } color_map {";
+    const std::string lobe = N + "_Fit_Lobe_" + std::to_string(j + 1);
+    out << "#declare " << lobe << "_Pigment = pigment { slope { " << N << "_View_Direction } color_map {";
     for (int i = 0; i < kColourNodes; ++i) {
       const double slope = 0.5 + 0.5 * i / (kColourNodes - 1);
-      const double mu = std::sin(kPi * (slope - 0.5));
+      const double mu = fit::view_node_cosine(i);
       std::array<double, 3> rgb{};
       for (int c = 0; c < 3; ++c) rgb[static_cast<std::size_t>(c)] = fit::lobe_colour(l, c, mu);
       if (i == 0) out << " [0 rgb " << vector3(rgb, 7) << "]";
       out << " [" << number(slope, 9) << " rgb " << vector3(rgb, 7) << "]";
     }
+    out << " } }\n";
     // The average divides by the lobe count: each lobe's S is multiplied by it.
-    out << " } }\n"
-        << "  finish { ambient 0 emission 0 diffuse 0 "
-        << (l.phong ? "phong " + number(count * l.specular) + " phong_size " + number(l.roughness)
-                    : "specular " + number(count * l.specular) + " roughness " + number(1.0 / l.roughness))
-        << " metallic 1\n"
-        << "           " << reflection << " }\n"
-        << "}\n";
+    auto finish = [&](double exponent) {
+      return "finish { ambient 0 emission 0 diffuse 0 " +
+             (l.phong ? "phong " + number(count * l.specular) + " phong_size " + number(exponent)
+                      : "specular " + number(count * l.specular) + " roughness " + number(1.0 / exponent)) +
+             " metallic 1 " + reflection + " }";
+    };
+    if (l.roughness_slope == 0.0) {
+      out << "#declare " << lobe << " = texture { pigment { " << lobe << "_Pigment } " << finish(l.roughness) << " }\n";
+      continue;
+    }
+    // The exponent follows N.V (fit.h, blinn_exponent_at_node): one texture per view node, blended
+    // linearly in the slope value.
+    out << "#declare " << lobe << " = texture { slope { " << N << "_View_Direction } texture_map {\n";
+    for (int i = 0; i < kColourNodes; ++i) {
+      const double slope = 0.5 + 0.5 * i / (kColourNodes - 1);
+      const std::string entry = "pigment { " + lobe + "_Pigment } " + finish(fit::blinn_exponent_at_node(l, i));
+      if (i == 0) out << "  [0 " << entry << "]\n";
+      out << "  [" << number(slope, 9) << " " << entry << "]\n";
+    }
+    out << "} }\n";
   }
   if (lobes.empty()) {
     out << "#declare " << N << "_Fit = texture { pigment { rgb 0 } finish { ambient 0 emission 0 diffuse 0 " << reflection
@@ -89,6 +103,37 @@ std::string fit_textures(const std::string& N, const FinishFit& fit) {
     for (std::size_t j = 0; j < lobes.size(); ++j) out << " [1 " << N << "_Fit_Lobe_" << j + 1 << "]";
     out << " } }\n";
   }
+  return out.str();
+}
+
+// The header's lines of the fit's error per band of sun-camera angle (fit.h, kSunAngleBands).
+std::string sun_angle_lines(const fit::NativeFit& lobes) {
+  std::ostringstream out;
+  out << "//   Error by the angle between the light and the camera (a light in a band whose median exceeds 5% or p95\n"
+      << "//   20% renders that error, not the target):\n";
+  for (const fit::SunAngleQuality& b : lobes.by_sun_angle)
+    out << "//     " << number(b.from_deg, 3) << "-" << number(b.to_deg, 3) << " deg: median " << percent(b.quality.median)
+        << ", p95 " << percent(b.quality.p95) << "\n";
+  return out.str();
+}
+
+// NAME_Fit_Sun_Angle_Deg (band edges) and NAME_Fit_Error_Median_By_Angle / _P95_By_Angle (one per band).
+std::string sun_angle_declarations(const std::string& N, const fit::NativeFit& lobes) {
+  if (lobes.by_sun_angle.empty()) return "";
+  std::ostringstream edges, medians, p95s;
+  edges << number(lobes.by_sun_angle.front().from_deg, 6);
+  for (std::size_t b = 0; b < lobes.by_sun_angle.size(); ++b) {
+    const fit::SunAngleQuality& q = lobes.by_sun_angle[b];
+    edges << ", " << number(q.to_deg, 6);
+    medians << (b ? ", " : "") << number(q.quality.median, 6);
+    p95s << (b ? ", " : "") << number(q.quality.p95, 6);
+  }
+  const std::size_t bands = lobes.by_sun_angle.size();
+  std::ostringstream out;
+  out << "// Per band of light-camera angle: edges (deg), then the median and p95 error in each band.\n"
+      << "#declare " << N << "_Fit_Sun_Angle_Deg = array[" << bands + 1 << "] {" << edges.str() << "};\n"
+      << "#declare " << N << "_Fit_Error_Median_By_Angle = array[" << bands << "] {" << medians.str() << "};\n"
+      << "#declare " << N << "_Fit_Error_P95_By_Angle = array[" << bands << "] {" << p95s.str() << "};\n";
   return out.str();
 }
 
@@ -170,13 +215,15 @@ std::string include_text(const std::string& name, ModelKind model, const std::ve
               : std::string("n/a (no such normal is lit and seen)"))
       << "; up to the horizon (silhouettes) max " << percent(slice.error.max_relative_all) << ".\n"
       << "// " << N << "_Fit: " << fit.lobes.lobes.size() << " Blinn or Phong lobe(s) (specular or phong, metallic 1, pigment following N.V through\n"
-      << "//   slope { " << N << "_View_Direction }) averaged by a texture_map, + reflection fitted to R_spec = F exp(-g).\n"
+      << "//   slope { " << N << "_View_Direction }) averaged by a texture_map, + reflection fitted to R_spec = F exp(-g); a lobe's\n"
+      << "//   exponent follows N.V too (a texture_map over the same slope: a polished lobe narrows as 1/cos(theta_d)).\n"
       << "//   Measured per pixel and channel against the exact radiance f_r cos(theta_i) on orthographic spheres lit\n"
-      << "//   by one sun at 10, 40, 70, 100 deg from the camera (theta_i, theta_s <= 70 deg, values above 1% of the maximum):\n"
-      << "//   median " << percent(fit.lobes.quality.median) << ", p95 " << percent(fit.lobes.quality.p95) << ", max "
-      << percent(fit.lobes.quality.max) << " (target p95 " << percent(fit.lobes.target_error)
-      << (fit.lobes.target_met ? "" : ", not met") << "); peak (N = H) fit/exact " << vector3(fit.peak_ratio, 3)
-      << "; reflection rms " << number(fit.reflection_rms_error, 3) << ".\n"
+      << "//   by one sun at two angles from the camera in each band below (theta_i, theta_s <= 70 deg, values above 1%\n"
+      << "//   of the maximum), all bands: median " << percent(fit.lobes.quality.median) << ", p95 "
+      << percent(fit.lobes.quality.p95) << ", max " << percent(fit.lobes.quality.max) << " (target p95 "
+      << percent(fit.lobes.target_error) << (fit.lobes.target_met ? "" : ", not met") << "); peak (N = H) fit/exact "
+      << vector3(fit.peak_ratio, 3) << "; reflection rms " << number(fit.reflection_rms_error, 3) << ".\n"
+      << sun_angle_lines(fit.lobes)
       << "\n"
       << "#ifndef(" << N << "_Inc_Temp)\n"
       << "#declare " << N << "_Inc_Temp = version;\n"
@@ -213,6 +260,7 @@ std::string include_text(const std::string& name, ModelKind model, const std::ve
       << "// Source: least-squares fit of the same model (see header).\n"
       << "#declare " << N << "_Fit_Error_Median = " << number(fit.lobes.quality.median, 6) << ";\n"
       << "#declare " << N << "_Fit_Error_P95 = " << number(fit.lobes.quality.p95, 6) << ";\n"
+      << sun_angle_declarations(N, fit.lobes)
       << fit_textures(N, fit)
       << "\n"
       << "#version " << N << "_Inc_Temp;\n"

@@ -8,6 +8,9 @@
 //              the reference of tools/bench/renderer_cost.py
 //   Frequency  normal pass frequency (1 coarse, 64 fine)
 //   Irradiance the sun's irradiance (default 1)
+//   View_Width width and height of the orthographic view (default 2.3: the whole unit sphere)
+//   Target_X, Target_Y, Target_Z  the point the camera looks at (default the origin; e.g. the
+//              specular point of a polished lobe, zoomed with a small View_Width)
 #version 3.7;
 global_settings { assumed_gamma 1.0 ambient_light 0 max_trace_level 5 }
 
@@ -16,12 +19,16 @@ global_settings { assumed_gamma 1.0 ambient_light 0 max_trace_level 5 }
 #ifndef(Frequency) #declare Frequency = 1; #end
 #ifndef(Irradiance) #declare Irradiance = 1; #end
 #ifndef(Plain_Roughness) #declare Plain_Roughness = 0.05; #end
+#ifndef(View_Width) #declare View_Width = 2.3; #end
+#ifndef(Target_X) #declare Target_X = 0; #end
+#ifndef(Target_Y) #declare Target_Y = 0; #end
+#ifndef(Target_Z) #declare Target_Z = 0; #end
 #declare Material_Irradiance = Irradiance;
 
 #include "libbrdf.inc"
 #include "Material.inc"
 
-Brdf_Ortho_Camera(Material_View_Direction, <0, 0, 0>, 2.3, 2.3)
+Brdf_Ortho_Camera(Material_View_Direction, <Target_X, Target_Y, Target_Z>, View_Width, View_Width)
 
 #switch (Pass)
   #case (0) #declare Check_Texture = texture { Material_Exact } #break

@@ -105,6 +105,20 @@ def predicted_spike(brdf, model, channels, normals, view, world):
     return out
 
 
+def in_folder(keep, prefix, function):
+    """function(folder) in `keep` (created, kept) or in a fresh temporary folder removed afterwards."""
+    import shutil
+    import tempfile
+
+    folder = keep or tempfile.mkdtemp(prefix=prefix)
+    os.makedirs(folder, exist_ok=True)
+    try:
+        return function(folder)
+    finally:
+        if not keep:
+            shutil.rmtree(folder, ignore_errors=True)
+
+
 def blender_command(blender, script, *arguments):
     """The command that runs `script` (with `arguments` after "--") in a headless Blender:
     `blender` is a Blender program (Debian's 3.4) or the Python of a venv holding bpy from PyPI

@@ -14,6 +14,7 @@ interpolation error; a wrong phi_d convention, atlas packing or texel convention
 percent). FIT graph: its Beckmann roughness, colour and spike weight must follow the description.
 """
 
+import dataclasses
 import math
 import os
 import subprocess
@@ -152,14 +153,37 @@ def fit_case(directory, request):
     glossy = [node for node in graph.nodes if node.type == "ShaderNodeBsdfGlossy"
               and node.props["distribution"] == "BECKMANN"]
     check(len(glossy) == len(fit["lobes"]) >= 1, f"FIT graph has one Beckmann Glossy per fitted lobe ({len(glossy)})")
+    # Each lobe's roughness at N.V from 0.02 to 1: sqrt(alpha(N.V)) of the description (fit.h, lobe_alpha).
+    mu = np.array([0.02, 0.1, 0.3, 0.5, 0.7, 0.9, 1.0])
+    probe_normal = np.tile([[0.0, 0.0, 1.0]], (mu.size, 1))
+    probe_view = np.stack([np.sqrt(1 - mu * mu), np.zeros(mu.size), mu], axis=1)
+    links = {(to, sock): src for src, to, sock in graph.links}
+    check(any(lobe["alpha_slope"] > 0 for lobe in fit["lobes"]), "some FIT lobe's alpha follows N.V (alpha_slope > 0)")
     for node, lobe in zip(glossy, fit["lobes"]):
-        check(abs(node.inputs["Roughness"] ** 2 - lobe["alpha"]) < 1e-12,
-              f"FIT lobe roughness^2 {node.inputs['Roughness'] ** 2:.6f} = fitted alpha {lobe['alpha']:.6f}")
+        source = links.get((node.id, "Roughness"))
+        if source is None:
+            roughness = np.full(mu.size, node.inputs["Roughness"])
+        else:
+            probe = dataclasses.replace(graph, outputs=[("Roughness", "NodeSocketFloat")],
+                                        links=graph.links + [(source, "GROUP_OUTPUT", "Roughness")])
+            roughness = graph_interpreter.evaluate(probe, probe_normal, probe_view, {}, {})["Roughness"]
+        expected = np.sqrt(np.minimum(lobe["alpha"] * np.maximum(mu, fit["min_view_cosine"]) ** -lobe["alpha_slope"], 1.0))
+        error = float(np.max(np.abs(roughness / expected - 1)))
+        check(error < 1e-5, f"FIT lobe roughness(N.V)^2 = alpha {lobe['alpha']:.4g} N.V^-{lobe['alpha_slope']:.3f} "
+                            f"(at most 1) at N.V 0.02..1: max relative error {error:.1e}")
     error = fit["error"]
     check(0 <= error["median"] <= error["p95"] <= error["max"] and error["values"] > 100,
           f"FIT stores its measured error (median {error['median']:.2%}, p95 {error['p95']:.2%})")
     check(core.fit_error_text(description).startswith(f"{len(fit['lobes'])} lobe"),
           f"panel text: {core.fit_error_text(description)}")
+    text = core.fit_error_text(description)
+    for engine, stated in (("Cycles", fit["error"]), ("EEVEE", fit["eevee"]["error"])):
+        bands = stated["by_sun_angle"]
+        line = next((line for line in text.split("\n") if line.startswith(engine + " by light-camera angle")), "")
+        check([(b["from_deg"], b["to_deg"]) for b in bands] == [(0, 30), (30, 60), (60, 90), (90, 120), (120, 140)]
+              and all(f"{b['from_deg']:g}-{b['to_deg']:g} {b['median']:.1%}/{b['p95']:.0%}" in line for b in bands)
+              and line.count("(!)") == sum(b["median"] > 0.05 or b["p95"] > 0.2 for b in bands),
+              f"panel states {engine}'s error per band of light-camera angle, flagging the bands off target: {line}")
     low, high = fit["eevee"]["excluded_roughness"]
     check(0.3 < low < high < 0.95 and not any(low < lobe["roughness"] < high for lobe in fit["eevee"]["lobes"]),
           f"EEVEE's GGX lobes stay out of the roughness band ({low}, {high}) EEVEE does not render as GGX: "
@@ -201,7 +225,7 @@ def main():
         sigma_image_case(path, rng)
         lut_case(directory, core.MaterialRequest(model="microfacet", material="Au", sigma_s=0.1, lc=2.0, mode="LUT",
                                                  resolution=(128, 64, 48), name="Au microfacet"), rng, (1.0, 1.0, 0.025))
-        fit_case(directory, core.MaterialRequest(model="mbk", material="Al", sigma_s=0.2, lc=2.0, mode="FIT"))
+        fit_case(directory, core.MaterialRequest(model="mbk", material="Al", sigma_s=0.03, lc=2.0, mode="FIT"))
     checks.finish("all node-graph checks passed")
 
 

@@ -8,7 +8,8 @@ polished, intermediate and rough; BK7). Per pixel (analytic sphere normals; mask
 and channel, over the pixels with theta_i, theta_s <= 70 deg and every channel above 1% of the
 maximum, the relative error against f_r cos(theta_i) E. Asserted: >= 200 pixels, no NaN/Inf, the
 include states its fit's error and lobes; the issue's targets (median <= 5%, p95 <= 20%) on every
-surface but the rough n = 1.5 + 1i, printed as MEASURED (median 6.1%, p95 23%). Why: a fit valid for any sun
+surface but the rough n = 1.5 + 1i, printed as MEASURED (median 7.5%, p95 21%; 6.1%, 23% when the fit's
+suns stopped at 110 deg, before issue 33). Why: a fit valid for any sun
 must follow how the broad lobe changes with theta_d (L.H: Fresnel and MBK's geometric factor) across
 sun angles. log radiance of `brdf eval` over the fit's suns (10-100 deg) fitted by f(N.H) g(N.V), the
 form of a Blinn lobe times an N.V pigment, leaves 7.5% / 19.8%; with a factor in L.H, 0.96% / 3.5%.
@@ -40,7 +41,7 @@ LIGHT, VIEW = (0.7, 0.25, -0.75), (0.0, 0.0, -1.0)
 CASES = [
     ("n1.5+1i_s0.02", dict(n=1.5, k=1.0, sigma_s=0.02, lc=2.0), 280, True),
     ("n1.5+1i_s0.2", dict(n=1.5, k=1.0, sigma_s=0.2, lc=2.0), 120, True),
-    ("n1.5+1i_s1.0_lc5", dict(n=1.5, k=1.0, sigma_s=1.0, lc=5.0), 120, False),  # measured 6.1% / 23%
+    ("n1.5+1i_s1.0_lc5", dict(n=1.5, k=1.0, sigma_s=1.0, lc=5.0), 120, False),  # measured 7.5% / 21%
     ("Au_s0.02", dict(material="Au", sigma_s=0.02, lc=2.0), 280, True),
     ("Au_s0.08", dict(material="Au", sigma_s=0.08, lc=2.0), 160, True),  # chosen here: intermediate gold
     ("Au_s0.5_lc3", dict(material="Au", sigma_s=0.5, lc=3.0), 120, True),
@@ -77,7 +78,7 @@ def main():
                   f"{MEDIAN_LIMIT:.0%}), p95 {p95:.2%} (<= {P95_LIMIT:.0%})")
         else:
             print(f"  MEASURED (not asserted) {name}: median {median:.2%}, p95 {p95:.2%}")
-    print("  surface | pixels | median | p95 | include's stated median (10..100 deg suns)")
+    print("  surface | pixels | median | p95 | include's stated median (all bands, 9..134 deg suns)")
     for r in rows:
         print(f"  {r[0]} | {r[1]} | {r[2]:.2%} | {r[3]:.2%} | {r[4]:.2%}")
     checks.finish(f"ok: POV-Ray NAME_Fit renders; renders in {OUT}")

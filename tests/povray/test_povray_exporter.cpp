@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <sstream>
 
@@ -207,8 +208,21 @@ TEST(Include, IsGuardedPrefixedAndWithinPovRaysMapLimit) {
                              "#declare Gold_Exact = texture", "#declare Gold_Fit = texture",
                              "#declare Gold_Fit_Lobe_1 = texture", "#declare Gold_Fit_Error_P95",
                              "#declare Gold_Light_Direction", "#declare Gold_View_Direction",
-                             "#version Gold_Inc_Temp;", "emission Gold_Irradiance"})
+                             "#version Gold_Inc_Temp;", "emission Gold_Irradiance",
+                             "#declare Gold_Fit_Sun_Angle_Deg = array[6] {0, 30, 60, 90, 120, 140};",
+                             "#declare Gold_Fit_Error_Median_By_Angle = array[5] {",
+                             "#declare Gold_Fit_Error_P95_By_Angle = array[5] {"})
     EXPECT_NE(text.find(needle), std::string::npos) << needle;
+  // The error per band of sun-camera angle (fit.h): measured on pixels in every band, and the
+  // header's line for each band quotes it.
+  ASSERT_EQ(fit.lobes.by_sun_angle.size(), 5u);
+  for (const libbrdf::fit::SunAngleQuality& band : fit.lobes.by_sun_angle) {
+    EXPECT_GT(band.quality.values, 100u) << band.from_deg << "-" << band.to_deg << " deg";
+    EXPECT_LE(band.quality.median, band.quality.p95);
+    char line[96];
+    std::snprintf(line, sizeof line, "//     %g-%g deg: median %.3g%%", band.from_deg, band.to_deg, 100.0 * band.quality.median);
+    EXPECT_NE(text.find(line), std::string::npos) << line;
+  }
   // Every map line: one outer entry holding <= 256 inner entries.
   std::istringstream lines(text);
   std::string line;

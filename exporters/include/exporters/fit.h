@@ -23,11 +23,17 @@
 // The measure fitted and reported is the one of the one-sun check: pixels of an
 // orthographic sphere lit by one sun, per channel, relative error |fit - exact| / exact over the
 // pixels whose exact radiance (every channel) exceeds 1% of the scene's maximum and whose
-// theta_i, theta_s <= 70 deg. Fitting scenes put the sun at 5..110 deg from the camera; the
-// reported quality is measured on other scenes (sun at 10, 40, 70, 100 deg, another pixel grid).
-// Beyond ~100 deg (theta_d > 50 deg) no lobe over the half vector can follow MBK: its radiance goes
-// with cos(theta_i) across the lobe where a microfacet lobe's goes with 1/cos(theta_s), and the
-// renderer's colour may depend on N.V only (FIT works with any lights, so L is unknown).
+// theta_i, theta_s <= 70 deg. Fitting scenes put the sun at 5..138 deg from the camera (a random
+// sun and camera leave pixels with theta_i, theta_s <= 70 deg below 140 deg); the reported quality
+// is measured on other scenes (two suns inside each band of kSunAngleBands, another pixel grid),
+// pooled and band by band (NativeFit::by_sun_angle), since the error grows with the angle.
+// Cycles' lobes (FitRequest::view_dependent_roughness) take alpha(N.V) (lobe_alpha): a polished MBK
+// lobe is exp(-c_scale 4 cos^2(theta_d) sin^2(theta_h)), its width in theta_h ~ 1/cos(theta_d), and
+// N.V = cos(theta_d) at its peak (docs/fit.md: Cycles at random suns, medians 8.0% -> 1.9%, 12.5% ->
+// 1.6% at 64 and 86 deg). Beyond ~90 deg (theta_d > 45 deg) no lobe over the half vector follows
+// MBK well: across the lobe its radiance goes with cos(theta_i) where a microfacet lobe's goes with
+// 1/cos(theta_s), and the renderer's colour and roughness may depend on N.V only (FIT works with
+// any lights, so L is unknown): the stated error per band says how far.
 // The lobe count is the smallest (1..max_lobes) whose measured p95 meets target_error.
 // The specular spike (the m = 0 delta, R_spec) is not part of this fit: exporters add it as a
 // mirror lobe weighted by R_spec.
@@ -62,7 +68,10 @@ inline constexpr int kColourDegree = 5;
 inline constexpr int kColourTerms = kColourDegree + 1;
 
 struct Lobe {
-  double roughness = 0.1;  // ggx: alpha; blinn: exponent n
+  double roughness = 0.1;  // ggx/beckmann: alpha at mu_v = 1 (lobe_alpha); blinn: exponent n
+  // ggx/beckmann: alpha(mu_v) = roughness mu_v^-roughness_slope (lobe_alpha; 0: a fixed alpha);
+  // blinn: exponent roughness mu_v^(2 roughness_slope) at the view nodes (blinn_exponent_at_node).
+  double roughness_slope = 0.0;
   double specular = 1.0;   // blinn: S (shared by the channels); ggx: 1
   bool phong = false;      // blinn shape only: the Phong highlight (R.L)^n instead of (N.H)^n
   // Per channel, the Bernstein coefficients (>= 0) of the colour in mu_v = N.V (ggx: the BSDF's
@@ -73,6 +82,21 @@ struct Lobe {
 // B_k(mu) = C(D, k) mu^k (1 - mu)^(D - k), D = kColourDegree.
 double bernstein(int k, double mu);
 double lobe_colour(const Lobe& lobe, int channel, double mu_v);
+// A ggx/beckmann lobe's alpha at mu_v = N.V: roughness max(mu_v, kMinViewCosine)^-roughness_slope,
+// at most 1 (Blender's largest roughness). Why N.V: MBK's polished lobe is a Gaussian in
+// eta = |N x (L + V)| = 2 cos(theta_d) sin(theta_h), so its width in theta_h goes as 1/cos(theta_d),
+// and near the lobe's peak N = H, N.V = cos(theta_d); the renderer knows N.V for any light.
+inline constexpr double kMinViewCosine = 0.05;
+double lobe_alpha(const Lobe& lobe, double mu_v);
+// blinn: POV-Ray cannot vary a finish's exponent continuously; a lobe with roughness_slope != 0 is a
+// texture_map over slope { view } of kViewNodes textures (the include), node k at
+// mu_v = view_node_cosine(k) = sin(pi/2 k/(kViewNodes - 1)) with exponent
+// blinn_exponent_at_node(lobe, k) = roughness max(mu_k, kMinViewCosine)^(2 roughness_slope) (the width
+// ~ 1/exponent^(1/2) following 1/N.V), blended linearly in the slope value 1/2 + asin(N.V)/pi as
+// POV-Ray blends the entries (lobe_radiance does the same).
+inline constexpr int kViewNodes = 24;
+double view_node_cosine(int k);
+double blinn_exponent_at_node(const Lobe& lobe, int k);
 // POV-Ray 3.7's metallic weight F_m at N.L (empirical formula of its source).
 double povray_metallic_weight(double n_dot_l);
 // One lobe's radiance per unit irradiance (both cosines > 0; else 0).
@@ -84,11 +108,22 @@ struct FitQuality {
   double lowest = 0.0;  // min over all lit, visible pixels of fit / scene maximum (< 0: dips below 0)
 };
 
+// Bands of the angle between the sun and the camera (deg) in which the fit's error is measured
+// and stated (NativeFit::by_sun_angle); the fit's scenes reach 138 deg (theta_i, theta_s <= 70 deg
+// leaves pixels only below 140 deg).
+inline constexpr std::array<double, 6> kSunAngleBands = {0.0, 30.0, 60.0, 90.0, 120.0, 140.0};
+
+struct SunAngleQuality {
+  double from_deg = 0.0, to_deg = 0.0;  // sun-camera angle band
+  FitQuality quality;                   // on two suns inside it (at 30% and 70% of the band)
+};
+
 struct NativeFit {
   LobeShape shape = LobeShape::ggx;
   std::vector<Lobe> lobes;
   FitQuality quality;                  // of the chosen lobe count, on the validation scenes
   std::vector<FitQuality> tried;       // quality with 1, 2, ... lobes (the last is the chosen one)
+  std::vector<SunAngleQuality> by_sun_angle;  // the chosen fit's quality per band of kSunAngleBands
   double target_error = 0.0;
   bool target_met = false;
   int channels = 3;
@@ -109,6 +144,10 @@ struct FitRequest {
   // not render as GGX (EEVEE 3.4's LTC: Blender roughness 0.375-0.875, docs/renderers.md); every lobe stays out
   // of it. Default: none.
   double excluded_alpha_low = 0.0, excluded_alpha_high = 0.0;
+  // Fit each lobe's roughness_slope too (ggx/beckmann: alpha following N.V, lobe_alpha; blinn: the
+  // exponent at the view nodes, blinn_exponent_at_node). Default: fixed roughnesses (EEVEE: a
+  // varying alpha would cross the excluded band).
+  bool view_dependent_roughness = false;
 };
 
 // The default --target-error of `brdf export blender --mode fit` and `brdf export povray`.
