@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The main job: installs what is missing, builds, bakes the default material set, reproduces the
 # paper's Fig. 2, plots every model, measures speed against error, renders every default material in
-# POV-Ray and Blender against brdf eval and the model comparisons, and writes a report (index.html)
-# that opens with a one-screen summary and ends with the time of each stage.
+# POV-Ray, Blender and Mitsuba against brdf eval, measures what each material mode costs in the
+# renderer, renders the model comparisons, and writes a report (index.html) that opens with a
+# one-screen summary and ends with the time of each stage.
 #
 # Usage: ./run.sh [--small] [--out DIR] [--no-build]
 #   --small     reduced sizes (coarser grids, smaller bakes and renders; what the test runs)
@@ -42,7 +43,7 @@ timings="$out/timings.csv"
 echo "stage,title,status,seconds,log" >"$timings"
 failed=()
 stage_no=0
-stage_total=12
+stage_total=13
 
 seconds_since() { awk -v a="$1" -v b="$EPOCHREALTIME" 'BEGIN { printf "%.1f", b - a }'; }
 human() {  # 75.3 -> 1m15s, 8.25 -> 8.2 s
@@ -133,6 +134,19 @@ stage_summary() {
   need_script tools/render_summary.py || return 1
   "$py" "$root/tools/render_summary.py" --brdf "$brdf" --out "$out/renders" "${small_flag[@]}"
 }
+# Blender 4.5 LTS (bpy from PyPI, scripts/python_env.sh bpy45); Debian's Blender where that venv
+# cannot be made (exit 3: no Python 3.11 or no package index).
+stage_cost() {
+  need_script tools/bench/renderer_cost.py || return 1
+  local blender=4.5
+  "$root/scripts/python_env.sh" bpy45 >/dev/null
+  case $? in
+    0) ;;
+    3) blender=debian; echo "bpy 4.5 unavailable: Cycles timed in Debian's Blender" ;;
+    *) return 1 ;;
+  esac
+  "$py" "$root/tools/bench/renderer_cost.py" --brdf "$brdf" --out "$out/cost" --blender "$blender" "${small_flag[@]}"
+}
 stage_povray() {
   need_script tools/render_povray_comparison.py || return 1
   "$py" "$root/tools/render_povray_comparison.py" --brdf "$brdf" --out "$out/renders" "${small_flag[@]}"
@@ -180,7 +194,8 @@ run_stage fig2 "Reproduce the paper's Fig. 2 (R_d maps)" stage_fig2
 run_stage models "Plot every model in-plane, polar and over the hemisphere" stage_models
 run_stage albedo "Directional albedo (white furnace) of every model, both K modes (brdf albedo)" stage_albedo
 run_stage bench "Speed against error (brdf bench --quick)" stage_bench
-run_stage summary "Every default material in POV-Ray and Blender, one exposure, against brdf eval" stage_summary
+run_stage summary "Every default material in POV-Ray, Blender and Mitsuba, one exposure, against brdf eval" stage_summary
+run_stage cost "What each material mode costs in Cycles and POV-Ray (tools/bench/renderer_cost.py)" stage_cost
 run_stage povray "POV-Ray comparison renders" stage_povray
 run_stage blender "Blender comparison renders" stage_blender
 run_stage fitscene "FIT materials in a scene: sky + two suns, Blender and POV-Ray side by side" stage_fitscene
