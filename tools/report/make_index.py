@@ -345,8 +345,8 @@ def cost_section(page, out):
             ratios = [s["cost"]["ratio"] for s in measured]
             row(mitsuba["renderer"].split(",")[0], f"libbrdf plugin, {nearest['name']}",
                 f"roughconductor, Beckmann α {c['roughconductor']['alpha']:.3f}", "all",
-                f"{c['libbrdf_ns_per_sample']:.3g} ns / sample", c["ratio"])
-            mitsuba_text = (f"Mitsuba: ns per sample of a 64² path-traced sun + sky render (depth 3, "
+                f"{c['libbrdf_ns_per_sample'] / 1e3:.3g} µs / sample", c["ratio"])
+            mitsuba_text = (f"Mitsuba: time per sample of a 64² path-traced sun + sky render (depth 3, "
                             f"{c['samples'] // 4096} samples per pixel), one timed render each after a warm-up, the plugin "
                             f"against Mitsuba's roughconductor with the plugin's proxy α and the material's index at "
                             f"0.55 µm; over the {len(measured)} default materials the ratio spans "
