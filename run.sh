@@ -9,8 +9,9 @@
 #   --small     reduced sizes (coarser grids, smaller bakes and renders; what the test runs)
 #   --out DIR   report directory (default: out/report)
 #   --no-build  skip installing packages and building; use $BRDF_EXE (default build/cli/brdf)
-# Expected duration (stated when it starts): ~8 min on a fresh two-core machine (7m33s measured,
-# 5m13s of it installing and building); `--small --no-build` 2m16s-4m28s (shared machine).
+# Expected duration (stated when it starts): ~10 min on a fresh two-core machine (7m33s measured
+# before the cost stage, 5m13s of it installing and building; `--no-build` 7m08s with it, the cost
+# stage 2m45s); `--small --no-build` 3m38s-4m05s with the cost stage (48 s; shared machine).
 # Progress (numbered stages with elapsed times) goes to stderr; each stage's own output goes to
 # DIR/logs/. A failed stage does not stop the later ones (except install/build); the job exits 1
 # at the end naming every failed stage.
@@ -166,13 +167,14 @@ stage_index() {
 mode="full size"
 ((small)) && mode="reduced size (--small)"
 printf 'libbrdf main job, %s -> %s\n' "$mode" "$out" >&2
-# Measured on two-core machines: a fresh full-size run took 7m33s, 5m13s of it installing and
-# building; `--small --no-build` took 2m16s and 4m28s on a shared machine (load 6 and 9).
+# Measured on two-core machines: a fresh full-size run took 7m33s before the cost stage, 5m13s of
+# it installing and building; `--no-build` 7m08s with the cost stage (2m45s of it; load 4-6);
+# `--small --no-build` 3m38s and 4m05s (shared machine, load 4-6).
 if ((build)); then
-  expected="~8 min on a fresh two-core machine (~5 min of it the install and build; less when build/ is up to date)"
+  expected="~10 min on a fresh two-core machine (~5 min of it the install and build; less when build/ is up to date)"
   ((small)) && expected="the install and build (~5 min when fresh) plus ~2-5 min"
 else
-  expected="~2.5 min on two cores"
+  expected="~7 min on two cores"
   ((small)) && expected="~2-5 min on two cores"
 fi
 printf 'expected duration: %s\n' "$expected" >&2
