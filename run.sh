@@ -1,15 +1,17 @@
 #!/usr/bin/env bash
 # The main job: installs what is missing, builds, bakes the default material set, reproduces the
 # paper's Fig. 2, plots every model, measures speed against error, renders every default material in
-# POV-Ray and Blender against brdf eval and the model comparisons, and writes a report (index.html)
-# that opens with a one-screen summary and ends with the time of each stage.
+# POV-Ray, Blender and Mitsuba against brdf eval, measures what each material mode costs in the
+# renderer, renders the model comparisons, and writes a report (index.html) that opens with a
+# one-screen summary and ends with the time of each stage.
 #
 # Usage: ./run.sh [--small] [--out DIR] [--no-build]
 #   --small     reduced sizes (coarser grids, smaller bakes and renders; what the test runs)
 #   --out DIR   report directory (default: out/report)
 #   --no-build  skip installing packages and building; use $BRDF_EXE (default build/cli/brdf)
-# Expected duration (stated when it starts): ~8 min on a fresh two-core machine (7m33s measured,
-# 5m13s of it installing and building); `--small --no-build` 2m16s-4m28s (shared machine).
+# Expected duration (stated when it starts): ~10 min on a fresh two-core machine (7m33s measured
+# before the cost stage, 5m13s of it installing and building; `--no-build` 7m08s with it, the cost
+# stage 2m45s); `--small --no-build` 3m38s-4m05s with the cost stage (48 s; shared machine).
 # Progress (numbered stages with elapsed times) goes to stderr; each stage's own output goes to
 # DIR/logs/. A failed stage does not stop the later ones (except install/build); the job exits 1
 # at the end naming every failed stage.
@@ -42,7 +44,7 @@ timings="$out/timings.csv"
 echo "stage,title,status,seconds,log" >"$timings"
 failed=()
 stage_no=0
-stage_total=12
+stage_total=13
 
 seconds_since() { awk -v a="$1" -v b="$EPOCHREALTIME" 'BEGIN { printf "%.1f", b - a }'; }
 human() {  # 75.3 -> 1m15s, 8.25 -> 8.2 s
@@ -133,6 +135,19 @@ stage_summary() {
   need_script tools/render_summary.py || return 1
   "$py" "$root/tools/render_summary.py" --brdf "$brdf" --out "$out/renders" "${small_flag[@]}"
 }
+# Blender 4.5 LTS (bpy from PyPI, scripts/python_env.sh bpy45); Debian's Blender where that venv
+# cannot be made (exit 3: no Python 3.11 or no package index).
+stage_cost() {
+  need_script tools/bench/renderer_cost.py || return 1
+  local blender=4.5
+  "$root/scripts/python_env.sh" bpy45 >/dev/null
+  case $? in
+    0) ;;
+    3) blender=debian; echo "bpy 4.5 unavailable: Cycles timed in Debian's Blender" ;;
+    *) return 1 ;;
+  esac
+  "$py" "$root/tools/bench/renderer_cost.py" --brdf "$brdf" --out "$out/cost" --blender "$blender" "${small_flag[@]}"
+}
 stage_povray() {
   need_script tools/render_povray_comparison.py || return 1
   "$py" "$root/tools/render_povray_comparison.py" --brdf "$brdf" --out "$out/renders" "${small_flag[@]}"
@@ -152,13 +167,14 @@ stage_index() {
 mode="full size"
 ((small)) && mode="reduced size (--small)"
 printf 'libbrdf main job, %s -> %s\n' "$mode" "$out" >&2
-# Measured on two-core machines: a fresh full-size run took 7m33s, 5m13s of it installing and
-# building; `--small --no-build` took 2m16s and 4m28s on a shared machine (load 6 and 9).
+# Measured on two-core machines: a fresh full-size run took 7m33s before the cost stage, 5m13s of
+# it installing and building; `--no-build` 7m08s with the cost stage (2m45s of it; load 4-6);
+# `--small --no-build` 3m38s and 4m05s (shared machine, load 4-6).
 if ((build)); then
-  expected="~8 min on a fresh two-core machine (~5 min of it the install and build; less when build/ is up to date)"
+  expected="~10 min on a fresh two-core machine (~5 min of it the install and build; less when build/ is up to date)"
   ((small)) && expected="the install and build (~5 min when fresh) plus ~2-5 min"
 else
-  expected="~2.5 min on two cores"
+  expected="~7 min on two cores"
   ((small)) && expected="~2-5 min on two cores"
 fi
 printf 'expected duration: %s\n' "$expected" >&2
@@ -180,7 +196,8 @@ run_stage fig2 "Reproduce the paper's Fig. 2 (R_d maps)" stage_fig2
 run_stage models "Plot every model in-plane, polar and over the hemisphere" stage_models
 run_stage albedo "Directional albedo (white furnace) of every model, both K modes (brdf albedo)" stage_albedo
 run_stage bench "Speed against error (brdf bench --quick)" stage_bench
-run_stage summary "Every default material in POV-Ray and Blender, one exposure, against brdf eval" stage_summary
+run_stage summary "Every default material in POV-Ray, Blender and Mitsuba, one exposure, against brdf eval" stage_summary
+run_stage cost "What each material mode costs in Cycles and POV-Ray (tools/bench/renderer_cost.py)" stage_cost
 run_stage povray "POV-Ray comparison renders" stage_povray
 run_stage blender "Blender comparison renders" stage_blender
 run_stage fitscene "FIT materials in a scene: sky + two suns, Blender and POV-Ray side by side" stage_fitscene

@@ -3,11 +3,14 @@
     venv=$(scripts/python_env.sh mitsuba)
     PYTHONPATH=build/python $venv/bin/python tools/render_mitsuba_comparison.py --brdf build/cli/brdf \\
         --out DIR [--model mbk] [--exposure X] [--resolution 128] [--small]
+        [--to-sun X Y Z] [--towards-camera X Y Z] [--half-width 1.05] [--no-cost]
 
 One sphere per surface of tools/report/materials.json (in its order), lit by one sun of irradiance
 1 from upper left in front (to the sun (-1, 1, 1.5) with the camera on +z: POV-Ray's comparison
 scene, (-1, 1, -1.5) in its left-handed frame), orthographic camera, direct light, one sample per
-pixel (llvm_ad_rgb; RGB = 0.65, 0.55, 0.45 um). Writes
+pixel (llvm_ad_rgb; RGB = 0.65, 0.55, 0.45 um). --to-sun, --towards-camera and --half-width set
+another scene in this frame (camera up +y; tools/render_summary.py uses them for the report's
+first screen). Writes
   DIR/mitsuba_comparison.png   the spheres side by side: exposure x L, x/(1+x), sRGB
   DIR/mitsuba_difference.png   |L / L_brdf_eval - 1| per pixel, log colour scale 1e-8 (dark) .. 1e-2 (white),
                                grey where the value is below float32's range (< 1e-30) or unlit
@@ -67,10 +70,11 @@ def write_exr(mi, path, pixels):
     os.replace(temporary, path)
 
 
-def sphere_and_error(mi, brdf, model, surface, resolution):
-    image = mc.render(mi, mc.sun_sphere_scene(mi, mc.plugin_dict(model, surface), TO_SUN, resolution, TOWARDS_CAMERA), seed=1)
+def sphere_and_error(mi, brdf, model, surface, resolution, to_sun=TO_SUN, towards_camera=TOWARDS_CAMERA, half_width=1.05):
+    image = mc.render(mi, mc.sun_sphere_scene(mi, mc.plugin_dict(model, surface), to_sun, resolution, towards_camera,
+                                              half_width), seed=1)
     radiance, positions, pixels = mc.sphere_pixels(image)
-    predicted, asked = mc.predicted_sun_radiance(brdf, model, surface, positions, TO_SUN, TOWARDS_CAMERA)
+    predicted, asked = mc.predicted_sun_radiance(brdf, model, surface, positions, to_sun, towards_camera)
     representable = asked[:, None] & (predicted >= FLOAT32_FLOOR)
     relative = np.full(predicted.shape, np.nan)
     relative[representable] = np.abs(radiance[representable] / predicted[representable] - 1)
@@ -134,9 +138,22 @@ def main():
     parser.add_argument("--resolution", type=int, default=128, help="pixels per sphere (square)")
     parser.add_argument("--cost-spp", type=int, default=16, help="samples per pixel of the cost renders (64 x 64 pixels)")
     parser.add_argument("--small", action="store_true", help="64 pixels per sphere, 4 samples per pixel for the cost")
+    parser.add_argument("--to-sun", type=float, nargs=3, default=TO_SUN.tolist(), metavar=("X", "Y", "Z"),
+                        help="direction to the sun (normalised; camera frame: +z towards the camera, +y up)")
+    parser.add_argument("--towards-camera", type=float, nargs=3, default=list(TOWARDS_CAMERA), metavar=("X", "Y", "Z"))
+    parser.add_argument("--half-width", type=float, default=1.05, help="half the orthographic view's width")
+    parser.add_argument("--no-cost", action="store_true", help="skip the cost renders")
     args = parser.parse_args()
     if args.small:
         args.resolution, args.cost_spp = 64, 4
+    for name in ("to_sun", "towards_camera"):
+        if not (np.all(np.isfinite(getattr(args, name))) and np.linalg.norm(getattr(args, name)) > 0):
+            sys.exit(f"--{name.replace('_', '-')}: must be a finite non-zero vector (got {getattr(args, name)})")
+    if not (np.isfinite(args.half_width) and args.half_width > 0):
+        sys.exit(f"--half-width: must be a positive number (got {args.half_width})")
+    if args.resolution < 1:
+        sys.exit(f"--resolution: must be at least 1 (got {args.resolution})")
+    to_sun, towards_camera = mc.unit(args.to_sun), mc.unit(args.towards_camera)
     if args.exposure is not None and not (np.isfinite(args.exposure) and args.exposure > 0):
         sys.exit(f"--exposure: must be a positive number (got {args.exposure})")
     out = Path(args.out)
@@ -148,11 +165,13 @@ def main():
     for s in config["surfaces"]:
         surface = {"material": s["material"], "sigma_s": s["sigma_s_um"], "lc": s["lc_um"]}
         started = time.time()
-        image, error_image, stats = sphere_and_error(mi, args.brdf, args.model, surface, args.resolution)
+        image, error_image, stats = sphere_and_error(mi, args.brdf, args.model, surface, args.resolution, to_sun,
+                                                     towards_camera, args.half_width)
         write_exr(mi, out / "mitsuba" / f"{s['name']}.exr", image)
-        cost = cost_per_sample(mi, plugin, args.model, surface, 64, args.cost_spp)
-        mc.brdfcli.progress(f"mitsuba {s['name']}: median {stats['median']:.1e}, cost x{cost['ratio']:.2f} roughconductor "
-                            f"({time.time() - started:.1f} s)")
+        cost = None if args.no_cost else cost_per_sample(mi, plugin, args.model, surface, 64, args.cost_spp)
+        mc.brdfcli.progress(f"mitsuba {s['name']}: median {stats['median']:.1e}"
+                            + (f", cost x{cost['ratio']:.2f} roughconductor" if cost else "")
+                            + f" ({time.time() - started:.1f} s)")
         surfaces.append({"name": s["name"], "surface": surface, "error": stats, "cost": cost,
                          "image": image, "error_image": error_image})
 
@@ -167,8 +186,8 @@ def main():
 
     summary = {
         "renderer": f"Mitsuba {mi.__version__} llvm_ad_rgb, libbrdf.mitsuba plugin '{args.model}'",
-        "scene": {"to_sun": TO_SUN.tolist(), "towards_camera": list(TOWARDS_CAMERA), "sun_irradiance": 1.0,
-                  "camera": "orthographic, half width 1.05", "spp": 1, "resolution": args.resolution,
+        "scene": {"to_sun": to_sun.tolist(), "towards_camera": towards_camera.tolist(), "sun_irradiance": 1.0,
+                  "camera": f"orthographic, half width {args.half_width:g}", "spp": 1, "resolution": args.resolution,
                   "rgb_wavelengths_um": list(mc.RGB_WAVELENGTHS_UM)},
         "exposure": exposure, "tone": "exposure x L, x/(1+x), sRGB",
         "surfaces_left_to_right": [{k: s[k] for k in ("name", "surface", "error", "cost")} for s in surfaces],
@@ -178,8 +197,8 @@ def main():
     temporary.write_text(json.dumps(summary, indent=1))
     os.replace(temporary, out / "mitsuba_comparison.json")
     print(f"wrote {out}/mitsuba_comparison.png, mitsuba_difference.png, mitsuba_comparison.json; exposure x{exposure:.3g}; "
-          f"worst per-pixel median {max(s['error']['median'] for s in surfaces):.1e}; cost ratios "
-          + ", ".join(f"{s['name']} {s['cost']['ratio']:.2f}" for s in surfaces))
+          f"worst per-pixel median {max(s['error']['median'] for s in surfaces):.1e}"
+          + ("" if args.no_cost else "; cost ratios " + ", ".join(f"{s['name']} {s['cost']['ratio']:.2f}" for s in surfaces)))
 
 
 if __name__ == "__main__":

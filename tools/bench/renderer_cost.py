@@ -82,6 +82,7 @@ def blender_costs(brdf, version, samples, size, repeats, tmp):
     for label, _ in kinds:
         for thread_count in threads:
             per_sample = (seconds[label, thread_count, samples] - seconds[label, thread_count, 1]) / (samples - 1)
+            require_positive(per_sample, f"Cycles {label} at {thread_count} thread(s): t({samples}) - t(1)")
             rows.append({"renderer": f"Cycles (Blender {results[0]['blender']})", "mode": label,
                          "threads": thread_count, "seconds_per_sample": per_sample})
     for row in rows:
@@ -112,11 +113,20 @@ def povray_costs(brdf, sizes, repeats, tmp):
                     best = min(best, time.perf_counter() - start)
                 times.append(best)
             per_pixel = (times[1] - times[0]) / (sizes[1] ** 2 - sizes[0] ** 2)
+            require_positive(per_pixel, f"POV-Ray {label} at {threads} thread(s): t({sizes[1]}²) - t({sizes[0]}²)")
             rows.append({"renderer": "POV-Ray 3.7", "mode": label, "threads": threads, "seconds_per_pixel": per_pixel})
     for row in rows:
         reference = next(r for r in rows if r["mode"] == "plain finish" and r["threads"] == row["threads"])
         row["ratio"] = row["seconds_per_pixel"] / reference["seconds_per_pixel"]
     return rows
+
+
+def require_positive(seconds, what):
+    """A difference of two timings at or below 0 means the machine's noise exceeded the work measured:
+    stop with that instead of writing a meaningless (negative) cost into the table."""
+    if not seconds > 0:
+        raise SystemExit(f"renderer_cost.py: {what} = {seconds:.3g} s, not positive: the timing noise exceeds "
+                         "the measured work (a busy machine?); run again or without --small")
 
 
 def pc_vector(blender_vector):
@@ -147,11 +157,14 @@ def main():
     args = parser.parse_args()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    samples, size, pov_sizes, repeats = (9, 128, (128, 320), 2) if args.small else (33, 256, (192, 640), 3)
+    # POV-Ray costs ~0.1-0.2 us per pixel: the two sizes differ by >= 1.6 M pixels (~0.3 s) so that
+    # process noise (128 against 320 px once gave a negative difference) stays small beside it.
+    samples, size, pov_sizes, repeats = (17, 128, (256, 1280), 2) if args.small else (33, 256, (256, 2048), 3)
     with tempfile.TemporaryDirectory(prefix="libbrdf_cost_") as tmp:
         blender_rows, meta = blender_costs(args.brdf, args.blender, samples, size, repeats, tmp)
         povray_rows = povray_costs(args.brdf, pov_sizes, repeats, tmp)
     meta["repeats"] = repeats
+    meta["load_average_1min"] = os.getloadavg()[0]  # a shared machine's ratios are only as steady as its load
     with open(out / "renderer_cost.json", "w", encoding="utf-8") as f:
         json.dump({"cycles": blender_rows, "povray": povray_rows, "meta": meta}, f, indent=1)
     text = markdown(blender_rows, povray_rows, meta)

@@ -1,9 +1,11 @@
 #!/usr/bin/python3
 """Writes the main job's report page, index.html, into the report directory.
 
-It opens with a one-screen summary: every default material rendered by POV-Ray and Blender Cycles
-on one exposure, each render's error against `brdf eval` (renders/summary.csv, tools/render_summary.py),
-the fastest path of `brdf bench` that meets 1e-3 and the default bakes' error. Then every figure with
+It opens with a one-screen summary: every default material rendered by POV-Ray, Blender Cycles and
+Mitsuba 3 on one exposure, each render's error against `brdf eval` (renders/summary.csv,
+tools/render_summary.py), the fastest path of `brdf bench` that meets 1e-3 and the default bakes'
+error; then the per-pixel difference of every render on one log scale and what each material mode
+costs in the renderer (cost/renderer_cost.json and Mitsuba's cost from the summary's run). Then every figure with
 a one-line caption, the tables (CSV files of the other stages) as HTML tables (long ones folded),
 where the bakes' error comes from, and at the end the time of each stage (timings.csv, written by
 run.sh). A missing file is shown as missing, with the status of the stage that should have made it.
@@ -13,6 +15,7 @@ import argparse
 import csv
 import datetime
 import html
+import json
 import math
 import os
 import platform
@@ -65,12 +68,21 @@ BAKE_ERRORS = [("bake", "bakes/bake_errors.png",
 # brdf bench's surfaces (cli/bench_command.cpp, kSurfaces: Au at 0.55 um): sigma_s in um.
 BENCH_SURFACE_SIGMA_UM = {"polished": 0.01, "intermediate": 0.1, "rough": 0.5}
 MEETS = 1e-3  # the summary's error target for a fast path
+COST_SURFACE_SIGMA_UM = 0.1  # tools/bench/renderer_cost.py's surface (Au, l_c 2 um)
 TABLES = {"surfaces": ("models", "surfaces.csv"), "bakes": ("bake", "bakes/bakes.csv"),
           "fig2": ("fig2", "fig2_summary.csv"), "bench": ("bench", "bench.csv"),
           "albedo": ("albedo", "albedo_summary.csv"),
           "fit_scene_errors": ("fitscene", "renders/fit_scene_errors.csv"),
           "fit_errors_by_angle": ("fitscene", "renders/fit_errors_by_angle.csv"),
           "summary": ("summary", "renders/summary.csv"), "bake_errors": ("bake", "bakes/bake_errors.csv")}
+SUMMARY_DIFFERENCE = [("summary", "renders/summary_difference.png",
+                       "Per material (columns) and renderer (rows): |L / L_eval − 1| per lit pixel (the largest channel; "
+                       "the pixels of the summary's error), one log colour scale for all; grey: not compared (a channel below 1% "
+                       "of the sphere's maximum, off the sphere or in its 2-pixel silhouette band). POV-Ray writes half "
+                       "floats (relative rounding up to 2^-11 = 4.9e-4); Blender's LUT mode interpolates a table; Mitsuba's "
+                       "plugin evaluates the model in float32 at each sample's hit point.")]
+# Where Mitsuba's cost per sample comes from: the summary stage's run of tools/render_mitsuba_comparison.py.
+MITSUBA_RUN = "renders/summary/work/mitsuba/mitsuba_comparison.json"
 
 
 def surface_figures(config):
@@ -84,7 +96,9 @@ def promised_files(materials=brdfcli.MATERIALS_FILE):
     """Every file a complete report holds, relative to the report directory."""
     config = brdfcli.load_materials(materials)
     files = ["index.html", "timings.csv", "fig2_rd.npz"]
-    files += [p for _, p, _ in FIG2 + MODEL_FIGURES + surface_figures(config) + ALBEDO + RENDERS + BENCH + BAKE_ERRORS]
+    files += [p for _, p, _ in FIG2 + MODEL_FIGURES + surface_figures(config) + ALBEDO + RENDERS + BENCH + BAKE_ERRORS
+              + SUMMARY_DIFFERENCE]
+    files += ["cost/renderer_cost.json", "cost/renderer_cost.md"]
     files += [p for _, p in TABLES.values()]
     files += [f"bakes/{s['name']}.exr" for s in config["surfaces"]]
     return files
@@ -105,7 +119,7 @@ details { margin: 0.6em 0; } summary { cursor: pointer; }
 .meta { font-size: 0.9em; margin: 0.2em 0; }
 table.summary { font-size: 0.82em; } table.summary td { text-align: center; padding: 0.15em 0.3em; }
 table.summary th { font-weight: normal; } table.summary th.l { font-weight: bold; }
-table.summary img { width: 118px; height: 118px; display: block; margin: auto; image-rendering: auto; }
+table.summary img { width: 108px; height: 108px; display: block; margin: auto; image-rendering: auto; }
 .wide { overflow-x: auto; }
 .caption { font-size: 0.85em; color: #333; max-width: 1250px; }
 """
@@ -248,18 +262,23 @@ def summary_section(page, out, config):
     head = "".join(f"<th><b>{html.escape(s['name'])}</b><br>{html.escape(s['material'])}, σs/λ {s['sigma_over_lambda']:g}</th>"
                    for s in surfaces)
     lines = [f"<table class='summary'><tr><th></th>{head}</tr>"]
-    for renderer, title in [("povray", "POV-Ray 3.7<br><small>NAME_Exact</small>"),
-                            ("blender", "Blender Cycles<br><small>add-on, LUT mode</small>")]:
+    mitsuba_note = next((r.get("note", "") for r in rows if r["renderer"] == "mitsuba"), "not run")
+    mitsuba_title = ("Mitsuba 3<br><small>libbrdf.mitsuba plugin</small>" if not mitsuba_note.startswith(("unavailable", "not run"))
+                     else f"Mitsuba 3<br><small>{html.escape(mitsuba_note)}</small>")
+    renderers = [("povray", "POV-Ray 3.7<br><small>NAME_Exact</small>", "POV-Ray error"),
+                 ("blender", "Blender Cycles<br><small>add-on, LUT mode</small>", "Blender error"),
+                 ("mitsuba", mitsuba_title, "Mitsuba error")]
+    for renderer, title, _ in renderers:
         cells = []
         for s in surfaces:
             r = by.get((s["name"], renderer))
-            cells.append(f"<td><img src='renders/{html.escape(r['image'])}' alt='{renderer} {s['name']}'></td>" if r
-                         else "<td class='failed'>missing</td>")
+            cells.append(f"<td><img src='renders/{html.escape(r['image'])}' alt='{renderer} {s['name']}'></td>" if r and r["image"]
+                         else "<td class='skipped'>unavailable</td>" if r else "<td class='failed'>missing</td>")
         lines.append(f"<tr><th class='l'>{title}</th>{''.join(cells)}</tr>")
-    for renderer, title in [("povray", "POV-Ray error"), ("blender", "Blender error")]:
+    for renderer, _, title in renderers:
         cells = [f"<td>{percent(by[(s['name'], renderer)]['median_relative_error'])} / "
-                 f"{percent(by[(s['name'], renderer)]['p95_relative_error'])}</td>" if (s["name"], renderer) in by
-                 else "<td></td>" for s in surfaces]
+                 f"{percent(by[(s['name'], renderer)]['p95_relative_error'])}</td>"
+                 if by.get((s["name"], renderer), {}).get("median_relative_error") else "<td></td>" for s in surfaces]
         lines.append(f"<tr><th class='l'>{title}<br><small>median / p95 vs brdf eval</small></th>{''.join(cells)}</tr>")
     cells = []
     for s in surfaces:
@@ -277,15 +296,72 @@ def summary_section(page, out, config):
     page.add("".join(lines))
     exposure = rows[0]["exposure"]
     page.add("<p class='caption'>Each default material (mbk, the paper's reference model) on a unit sphere, lit "
-             "by one sun of irradiance 1 at 40° from an orthographic camera, black background, the same scene in both "
-             f"renderers, shown on <b>one exposure</b> (×{float(exposure):.3g}, the 99th percentile of all lit pixels "
+             "by one sun of irradiance 1 at 40° from an orthographic camera, black background, the same scene in the "
+             "three renderers (Mitsuba: llvm_ad_rgb, direct light, one sample per pixel at a random point of the pixel), "
+             f"shown on <b>one exposure</b> (×{float(exposure):.3g}, the 99th percentile of all lit pixels "
              "→ 1/2, tone curve x/(1+x), sRGB): polished spheres show a small bright highlight, rough ones a wide dim "
              "lobe. Error: per pixel and channel |L − L<sub>eval</sub>| / L<sub>eval</sub> with L<sub>eval</sub> = "
              "f<sub>r</sub> cos θi from <code>brdf eval</code> at the pixel's normal, over the lit pixels (every "
-             "channel above 1% of the sphere's maximum; silhouette excluded); the same metric for both renderers "
+             "channel above 1% of the sphere's maximum; silhouette excluded); the same metric for every renderer "
              "(<a href='renders/summary.csv'>summary.csv</a>). Fastest path: the fastest mbk row of "
              "<code>brdf bench</code> with max error ≤ 1e-3 on its surface nearest in σs "
              "(<a href='#bench'>speed vs error</a>).</p>")
+
+
+def cost_section(page, out):
+    """What each material mode costs in the renderer: Cycles and POV-Ray from tools/bench/renderer_cost.py
+    (the cost stage), Mitsuba from the summary's run; every ratio against the reference of the same run."""
+    page.add("<h2 id='cost'>What each material mode costs in the renderer</h2>")
+    path = os.path.join(out, "cost", "renderer_cost.json")
+    if not os.path.isfile(path):
+        page.missing("cost", "cost/renderer_cost.json")
+        return
+    with open(path, encoding="utf-8") as f:
+        cost = json.load(f)
+    meta = cost["meta"]
+    lines = ["<table><tr><th class='l'>renderer</th><th class='l'>material mode</th><th class='l'>reference (same run)</th>"
+             "<th>threads</th><th>time per sample</th><th>× reference</th></tr>"]
+
+    def row(renderer, mode, reference, threads, time_text, ratio):
+        lines.append(f"<tr><td class='l'>{html.escape(renderer)}</td><td class='l'>{html.escape(mode)}</td>"
+                     f"<td class='l'>{html.escape(reference)}</td><td>{threads}</td><td>{time_text}</td><td><b>{ratio:.2f}</b></td></tr>")
+
+    principled = f"Principled BSDF, metallic, roughness {meta['principled_roughness']:.3f}"
+    for r in cost["cycles"]:
+        row(r["renderer"], r["mode"], principled, r["threads"], f"{1e3 * r['seconds_per_sample']:.3g} ms / sample "
+            f"({meta['resolution']}² px)", r["ratio"])
+    for r in cost["povray"]:
+        row(r["renderer"], r["mode"], "plain metallic finish", r["threads"], f"{1e6 * r['seconds_per_pixel']:.3g} µs / pixel",
+            r["ratio"])
+    mitsuba_path = os.path.join(out, MITSUBA_RUN)
+    mitsuba_text = "Mitsuba: not measured in this run (the summary stage's Mitsuba row says why)."
+    if os.path.isfile(mitsuba_path):
+        with open(mitsuba_path, encoding="utf-8") as f:
+            mitsuba = json.load(f)
+        measured = [s for s in mitsuba["surfaces_left_to_right"] if s.get("cost")]
+        if measured:
+            # The material nearest the Cycles/POV-Ray one (Au, sigma_s 0.1 um), and the range over all.
+            nearest = min(measured, key=lambda s: abs(math.log(s["surface"]["sigma_s"] / COST_SURFACE_SIGMA_UM)))
+            c = nearest["cost"]
+            ratios = [s["cost"]["ratio"] for s in measured]
+            row(mitsuba["renderer"].split(",")[0], f"libbrdf plugin, {nearest['name']}",
+                f"roughconductor, Beckmann α {c['roughconductor']['alpha']:.3f}", "all",
+                f"{c['libbrdf_ns_per_sample'] / 1e3:.3g} µs / sample", c["ratio"])
+            mitsuba_text = (f"Mitsuba: time per sample of a 64² path-traced sun + sky render (depth 3, "
+                            f"{c['samples'] // 4096} samples per pixel), one timed render each after a warm-up, the plugin "
+                            f"against Mitsuba's roughconductor with the plugin's proxy α and the material's index at "
+                            f"0.55 µm; over the {len(measured)} default materials the ratio spans "
+                            f"{min(ratios):.2f}–{max(ratios):.2f} ({html.escape(MITSUBA_RUN)}).")
+    lines.append("</table>")
+    page.add("".join(lines))
+    load = (f" (load average {meta['load_average_1min']:.1f} on {os.cpu_count()} cores at the end: on a busy machine "
+            "the ratios carry its noise)" if "load_average_1min" in meta else "")
+    page.add(f"<p class='caption'>Cycles (tools/bench/renderer_cost.py): seconds per sample = (t({meta['samples']}) − t(1)) / "
+             f"{meta['samples'] - 1} of whole renders (cancels sync, compilation and the write), gold mbk σs 0.1 µm on a "
+             "sphere under one sun; the Principled BSDF has the roughness of the FIT's strongest lobe. POV-Ray: seconds "
+             "per pixel from two image sizes, NAME_Exact against a plain metallic finish. Each the fastest of "
+             f"{meta['repeats']} repeats{load}; ratios against the reference of the same run and thread count "
+             f"(<a href='cost/renderer_cost.md'>renderer_cost.md</a>). {mitsuba_text}</p>")
 
 
 def bake_error_section(page, out):
@@ -350,10 +426,13 @@ def main():
              f"Express 23, 29100 (2015). Angles in degrees (φs = 180° is in-plane forward scatter), lengths in µm, "
              f"BRDFs in 1/sr.</p>")
     summary_section(page, args.out, config)
-    page.add("<p>Contents: <a href='#materials'>materials and bakes</a> · <a href='#bake-errors'>why the bakes' "
+    for item in SUMMARY_DIFFERENCE:
+        page.figure(*item)
+    page.add("<p>Contents: <a href='#cost'>renderer cost</a> · <a href='#materials'>materials and bakes</a> · <a href='#bake-errors'>why the bakes' "
              "error</a> · <a href='#fig2'>Fig. 2</a> · <a href='#models'>models</a> · <a href='#energy'>energy</a> · "
              "<a href='#bench'>speed vs error</a> · <a href='#renders'>model comparisons</a> · "
              "<a href='#stages'>stages and timings</a></p>")
+    cost_section(page, args.out)
 
     page.add("<h2 id='materials'>Materials and bakes</h2>")
     page.table(*TABLES["surfaces"],
