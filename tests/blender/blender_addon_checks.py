@@ -84,9 +84,13 @@ def main():
                              resolution=(32, 16, 8))
     group = obj.active_material.node_tree.nodes["libbrdf"]
     images = [n.image for n in group.node_tree.nodes if n.bl_idname == "ShaderNodeTexImage"]
-    # The factored form: P~ trilinear (8), K, F, R_spec rows (2 each), Sigma bilinear per channel (12).
-    check(result == {"FINISHED"} and len(images) == 26 and len({i.name for i in images}) == 3,
-          f"LUT group: 26 Closest lookups of three images ({len(images)}, {len({i.name for i in images})})")
+    # The factored form, twice: for EEVEE Closest fetches (P~ trilinear 8, K, F, R_spec rows 2 each,
+    # Sigma bilinear per channel 12: 26), for Cycles Linear ones (P~ 2, rows 1 each, Sigma 1 per channel: 8).
+    kinds = sorted(n.interpolation for n in group.node_tree.nodes if n.bl_idname == "ShaderNodeTexImage")
+    check(result == {"FINISHED"} and kinds.count("Closest") == 26 and kinds.count("Linear") == 8
+          and len({i.name for i in images}) == 3,
+          f"LUT group: 26 Closest (EEVEE) and 8 Linear (Cycles) lookups of three images "
+          f"({kinds.count('Closest')}, {kinds.count('Linear')}, {len({i.name for i in images})})")
     check(all(i.colorspace_settings.name == "Non-Color" and not i.use_half_precision and i.size[0] > 0 for i in images),
           f"images loaded as Non-Color float ({sorted({tuple(i.size) for i in images})})")
     # An unsaved .blend keeps its tables in the user's cache, not a temporary folder (test_blender_addon.py
@@ -122,8 +126,11 @@ def main():
     reused = {n.image.name for n in group.node_tree.nodes if n.bl_idname == "ShaderNodeTexImage"} & {i.name for i in images}
     check(result == {"FINISHED"} and len(reused) == 2,
           f"roughness change: Add Material again in {took:.2f} s (export and group), angular and Sigma images reused")
-    check(all(n.interpolation == "Closest" and n.extension == "EXTEND"
-              for n in group.node_tree.nodes if n.bl_idname == "ShaderNodeTexImage"), "Closest, Extend lookups")
+    check(all(n.interpolation in ("Closest", "Linear") and n.extension == "EXTEND"
+              for n in group.node_tree.nodes if n.bl_idname == "ShaderNodeTexImage"), "Closest or Linear, Extend lookups")
+    eevee_output = next((n for n in obj.active_material.node_tree.nodes if n.name == "libbrdf EEVEE output"), None)
+    check(eevee_output is not None and eevee_output.target == "EEVEE" and eevee_output.inputs["Surface"].is_linked,
+          "LUT mode: EEVEE's own Material Output (the Closest path), the group's Shader for Cycles")
     for rotation in ((0.3, 0.2, 0.0), (1.1, -0.4, 0.7)):
         sun.rotation_euler = rotation
         bpy.context.view_layer.update()
