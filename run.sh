@@ -171,7 +171,7 @@ printf 'libbrdf main job, %s -> %s\n' "$mode" "$out" >&2
 # it installing and building; `--no-build` 7m08s with the cost stage (2m45s of it; load 4-6);
 # `--small --no-build` 3m38s and 4m05s (shared machine, load 4-6).
 if ((build)); then
-  expected="~10 min on a fresh two-core machine (~5 min of it the install and build; less when build/ is up to date)"
+  expected="~12 min on a fresh two-core machine (~5 min of it the install and build; less when build/ is up to date; the first run also makes the pinned PyPI venvs)"
   ((small)) && expected="the install and build (~5 min when fresh) plus ~2-5 min"
 else
   expected="~7 min on two cores"
