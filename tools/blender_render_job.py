@@ -145,6 +145,14 @@ def add_object(scene, spec):
     return obj
 
 
+def baked_in_process(core):
+    """Whether the add-on bakes in Blender's process (no brdf program; the extension's libbrdf wheel)."""
+    try:
+        return core.find_brdf_executable("") is None
+    except core.RequestError:  # neither: nothing baked (a scene of plain surfaces only)
+        return False
+
+
 def engine_name(engine):
     """The job's engine name in this Blender: EEVEE is BLENDER_EEVEE_NEXT in 4.2 - 4.5."""
     available = bpy.types.RenderSettings.bl_rna.properties["engine"].enum_items.keys()
@@ -289,7 +297,7 @@ def main():
             "blender": bpy.app.version_string,
             "addon_file": sys.modules[module].__file__,
             # How the add-on baked: in Blender's process (the extension's bundled libbrdf wheel) or `brdf`.
-            "baked_in_process": sys.modules[module].core.find_brdf_executable("") is None,
+            "baked_in_process": baked_in_process(sys.modules[module].core),
         })
     with open(job["results"], "w", encoding="utf-8") as f:
         json.dump(results, f, indent=2)

@@ -19,6 +19,11 @@ import brdfcli  # noqa: E402  (the one wrapper around `brdf eval`)
 NORMAL_FREQUENCY = 64  # fine normal pass: frac(64 s), see Brdf_Normal_Texture
 
 
+def blender_to_povray(v):
+    """A Blender world vector (z up, right-handed) in POV-Ray's world (y up, left-handed): (x, z, y)."""
+    return (v[0], v[2], v[1])
+
+
 def find_povray():
     exe = shutil.which("povray")
     if not exe:

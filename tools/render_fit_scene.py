@@ -47,12 +47,8 @@ ORTHO = 7.6
 RADIUS = 0.8
 
 
-def to_pov(v):
-    return (v[0], v[2], v[1])
-
-
 def pov_vector(v):
-    return "<" + ", ".join(f"{x:.9g}" for x in to_pov(v)) + ">"
+    return "<" + ", ".join(f"{x:.9g}" for x in pc.blender_to_povray(v)) + ">"
 
 
 def blender_render(brdf, surfaces, out, size, samples, tmp):
@@ -103,7 +99,7 @@ def povray_render(brdf, surfaces, out, size):
     for index, s in enumerate(surfaces):
         name = f"Fit{index + 1}"
         pc.export_include(brdf, "mbk", brdfcli.surface_params(s, None),
-                          to_pov(SUNS[0]["direction"]), to_pov(CAMERA), name, directory)
+                          pc.blender_to_povray(SUNS[0]["direction"]), pc.blender_to_povray(CAMERA), name, directory)
         text = (directory / f"{name}.inc").read_text()
         median = float(re.search(rf"#declare {name}_Fit_Error_Median = ([0-9.e+-]+);", text).group(1))
         p95 = float(re.search(rf"#declare {name}_Fit_Error_P95 = ([0-9.e+-]+);", text).group(1))

@@ -154,27 +154,40 @@ def apply_preset(request, preset):
     return dataclasses.replace(request, **PRESETS[preset][2], name="")
 
 
-def _number(x):
+def _rounded(x):
     # 7 significant digits: Blender's float properties are 32-bit (0.65 arrives as 0.64999998).
-    return f"{float(x):.7g}"
+    return float(f"{float(x):.7g}")
+
+
+def export_keywords(request):
+    """The export's parameters for a validated request, in the order `brdf export blender` is given
+    them, as libbrdf.export_blender's keywords (without output); lengths, indices and wavelengths
+    rounded to 7 significant digits. export_arguments spells the same as command-line options, so
+    that the program and the in-process export bake the same table."""
+    keywords = {"model": request.model, "sigma_s": _rounded(request.sigma_s), "lc": _rounded(request.lc),
+                "wavelength": [_rounded(w) for w in request.wavelengths], "mode": request.mode.lower(),
+                "name": request.name}
+    if request.material:
+        keywords["material"] = request.material
+    else:
+        keywords.update(n=_rounded(request.n), k=_rounded(request.k))
+    if request.mode == "FIT":
+        keywords["target_error"] = _rounded(request.target_error)
+    elif request.resolution:
+        keywords["resolution"] = list(request.resolution)
+    if request.k_mode != "plane":
+        keywords["k_mode"] = request.k_mode
+    return keywords
 
 
 def export_arguments(request):
-    """The `brdf export blender` arguments (without executable and --output) for a validated request."""
-    args = ["export", "blender", "--model", request.model,
-            "--sigma-s", _number(request.sigma_s), "--lc", _number(request.lc),
-            "--wavelength", ",".join(_number(w) for w in request.wavelengths),
-            "--mode", request.mode.lower(), "--name", request.name]
-    if request.material:
-        args += ["--material", request.material]
-    else:
-        args += ["--n", _number(request.n), "--k", _number(request.k)]
-    if request.mode == "FIT":
-        args += ["--target-error", _number(request.target_error)]
-    elif request.resolution:
-        args += ["--resolution", ",".join(str(v) for v in request.resolution)]
-    if request.k_mode != "plane":
-        args += ["--k-mode", request.k_mode]
+    """The `brdf export blender` arguments (without executable and --output) for a validated request:
+    export_keywords as options (sigma_s -> --sigma-s; lists comma-separated; floats in 7 digits)."""
+    def text(value):
+        return f"{value:.7g}" if isinstance(value, float) else str(value)
+    args = ["export", "blender"]
+    for key, value in export_keywords(request).items():
+        args += ["--" + key.replace("_", "-"), ",".join(text(v) for v in value) if isinstance(value, list) else text(value)]
     return args
 
 
@@ -269,25 +282,6 @@ def in_process_exporter():
     return getattr(libbrdf, "export_blender", None)
 
 
-def export_keywords(request, description):
-    """libbrdf.export_blender's keywords for a validated request: the same values, rounded as
-    export_arguments rounds them, so that both ways bake the same table."""
-    keywords = {"model": request.model, "output": description, "sigma_s": float(_number(request.sigma_s)),
-                "lc": float(_number(request.lc)), "wavelength": [float(_number(w)) for w in request.wavelengths],
-                "mode": request.mode.lower(), "name": request.name}
-    if request.material:
-        keywords["material"] = request.material
-    else:
-        keywords.update(n=float(_number(request.n)), k=float(_number(request.k)))
-    if request.mode == "FIT":
-        keywords["target_error"] = float(_number(request.target_error))
-    elif request.resolution:
-        keywords["resolution"] = list(request.resolution)
-    if request.k_mode != "plane":
-        keywords["k_mode"] = request.k_mode
-    return keywords
-
-
 class ExportError(RuntimeError):
     """`brdf` failed: the message is its one-line error."""
 
@@ -305,7 +299,7 @@ def run_export(executable, request, directory, reuse=True, timeout=600):
     if executable is None:  # in Blender's process, through the bundled libbrdf module
         import libbrdf
         try:
-            libbrdf.export_blender(**export_keywords(request, description))
+            libbrdf.export_blender(**export_keywords(request), output=description)
         except (libbrdf.InvalidArgument, OSError, RuntimeError) as e:
             raise ExportError(f"libbrdf: error: {e}") from None
     else:

@@ -94,7 +94,7 @@ def blender_costs(brdf, version, samples, size, repeats, tmp):
 def povray_costs(brdf, sizes, repeats, tmp):
     directory = Path(tmp) / "povray"
     directory.mkdir(parents=True, exist_ok=True)
-    light, view = pc_vector(SUN), pc_vector(CAMERA)
+    light, view = pc.blender_to_povray(SUN), pc.blender_to_povray(CAMERA)
     pc.export_include(brdf, SURFACE["model"], {"material": SURFACE["material"], "sigma_s": SURFACE["sigma_s"],
                                                  "lc": SURFACE["lc"]}, light, view, "Material", directory)
     scene = ROOT / "povray" / "scenes" / "object_check.pov"
@@ -127,11 +127,6 @@ def require_positive(seconds, what):
     if not seconds > 0:
         raise SystemExit(f"renderer_cost.py: {what} = {seconds:.3g} s, not positive: the timing noise exceeds "
                          "the measured work (a busy machine?); run again or without --small")
-
-
-def pc_vector(blender_vector):
-    """Blender's world (z up, right-handed) to POV-Ray's (y up, left-handed): (x, z, y)."""
-    return (blender_vector[0], blender_vector[2], blender_vector[1])
 
 
 def markdown(blender_rows, povray_rows, meta):
